@@ -1,0 +1,237 @@
+// Typed DDS writer and reader: a node publishes or takes a topic in a few lines.
+#pragma once
+
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/DataWriterListener.hpp>
+#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+#include <string>
+#include <vector>
+
+#include "participant.hpp"
+#include "topics.hpp"
+
+namespace windfdi::bus {
+
+/// Wakes a node's loop when any of its readers has data (one condition for several readers).
+class Wakeup {
+ public:
+  void notify() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      pending_ = true;
+    }
+    cv_.notify_all();
+  }
+  /// Waits until notified or the timeout passes; true when notified.
+  bool wait_for(std::chrono::milliseconds timeout) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const bool woke = cv_.wait_for(lock, timeout, [this] { return pending_; });
+    pending_ = false;
+    return woke;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  bool pending_ = false;
+};
+
+/// Counts what a writer or reader sees of its peers; read from the node's loop.
+struct EndpointStatus {
+  std::atomic<int> matched{0};
+  std::atomic<uint64_t> deadline_missed{0};
+  std::atomic<uint64_t> samples_lost{0};
+  std::atomic<uint64_t> incompatible_qos{0};
+};
+
+/// A typed DataWriter made from its topic's QoS profile (or a named one).
+template <class T>
+class Writer : private eprosima::fastdds::dds::DataWriterListener {
+ public:
+  using Traits = TopicTraits<T>;
+
+  /// `adjust` may change the profile's QoS before creation (e.g. ownership strength, deadline).
+  explicit Writer(Participant& participant, const std::string& profile = Traits::profile,
+                  const std::function<void(eprosima::fastdds::dds::DataWriterQos&)>& adjust = {})
+      : participant_(participant) {
+    using namespace eprosima::fastdds::dds;
+    auto* topic = participant.topic(Traits::name, TypeSupport(new typename Traits::PubSub()));
+    DataWriterQos qos;
+    if (participant.publisher()->get_datawriter_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK)
+      throw std::runtime_error("no data_writer QoS profile '" + profile + "'");
+    if (adjust) adjust(qos);
+    writer_ = participant.publisher()->create_datawriter(topic, qos, this, StatusMask::all());
+    if (!writer_) throw std::runtime_error(std::string("cannot create writer for ") + Traits::name);
+  }
+
+  ~Writer() override {
+    // Detach first: the listener must not be called while this object is being destroyed.
+    writer_->set_listener(nullptr);
+    participant_.publisher()->delete_datawriter(writer_);
+  }
+  Writer(const Writer&) = delete;
+  Writer& operator=(const Writer&) = delete;
+
+  /// False when DDS refused the sample (e.g. resource limits); the caller counts it.
+  bool write(const T& sample) {
+    const bool ok = writer_->write(const_cast<T*>(&sample));
+    if (!ok) ++write_failures_;
+    return ok;
+  }
+
+  /// Disposes the instance of `key_holder` (e.g. a turbine leaving the farm).
+  bool dispose(const T& key_holder) {
+    return writer_->dispose(const_cast<T*>(&key_holder), eprosima::fastdds::dds::HANDLE_NIL) ==
+           ReturnCode_t::RETCODE_OK;
+  }
+
+  int matched() const { return status_.matched.load(); }
+  const EndpointStatus& status() const { return status_; }
+  uint64_t write_failures() const { return write_failures_; }
+  eprosima::fastdds::dds::DataWriter* get() const { return writer_; }
+
+  /// Blocks until at least `n` readers are matched or the timeout passes.
+  bool wait_for_readers(int n, std::chrono::milliseconds timeout) const {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (matched() < n) {
+      if (std::chrono::steady_clock::now() > end) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return true;
+  }
+
+ private:
+  void on_publication_matched(eprosima::fastdds::dds::DataWriter*,
+                              const eprosima::fastdds::dds::PublicationMatchedStatus& info) override {
+    status_.matched = info.current_count;
+  }
+  void on_offered_deadline_missed(eprosima::fastdds::dds::DataWriter*,
+                                  const eprosima::fastdds::dds::OfferedDeadlineMissedStatus&) override {
+    ++status_.deadline_missed;
+  }
+  void on_offered_incompatible_qos(eprosima::fastdds::dds::DataWriter*,
+                                   const eprosima::fastdds::dds::OfferedIncompatibleQosStatus&) override {
+    ++status_.incompatible_qos;
+  }
+
+  Participant& participant_;
+  eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
+  EndpointStatus status_;
+  std::atomic<uint64_t> write_failures_{0};
+};
+
+/// Liveliness of the writers a reader follows: who came, who went (by publication handle).
+struct LivelinessEvent {
+  eprosima::fastrtps::rtps::InstanceHandle_t writer;
+  bool alive;
+};
+
+/// A typed DataReader made from its topic's QoS profile, optionally restricted to some turbines.
+/// The listener only hands samples over: the node takes them on its own loop.
+template <class T>
+class Reader : private eprosima::fastdds::dds::DataReaderListener {
+ public:
+  using Traits = TopicTraits<T>;
+
+  Reader(Participant& participant, const std::vector<std::string>& turbine_ids = {}, Wakeup* wakeup = nullptr,
+         const std::string& profile = Traits::profile)
+      : participant_(participant), wakeup_(wakeup) {
+    using namespace eprosima::fastdds::dds;
+    auto* topic =
+        participant.topic_for_turbines(Traits::name, TypeSupport(new typename Traits::PubSub()), turbine_ids);
+    DataReaderQos qos;
+    if (participant.subscriber()->get_datareader_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK)
+      throw std::runtime_error("no data_reader QoS profile '" + profile + "'");
+    reader_ = participant.subscriber()->create_datareader(topic, qos, this, StatusMask::all());
+    if (!reader_) throw std::runtime_error(std::string("cannot create reader for ") + Traits::name);
+  }
+
+  ~Reader() override {
+    reader_->set_listener(nullptr);
+    participant_.subscriber()->delete_datareader(reader_);
+  }
+  Reader(const Reader&) = delete;
+  Reader& operator=(const Reader&) = delete;
+
+  /// Takes every available valid sample (appending to `out`); returns how many. `writers`, when given,
+  /// receives the publication handle of each sample's writer.
+  std::size_t take(std::vector<T>& out,
+                   std::vector<eprosima::fastrtps::rtps::InstanceHandle_t>* writers = nullptr) {
+    std::size_t n = 0;
+    T sample;
+    eprosima::fastdds::dds::SampleInfo info;
+    while (reader_->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
+      // Disposals and unregistrations arrive as invalid samples.
+      if (!info.valid_data) continue;
+      out.push_back(sample);
+      if (writers) writers->push_back(info.publication_handle);
+      ++n;
+    }
+    return n;
+  }
+
+  /// Liveliness changes since the last call.
+  std::vector<LivelinessEvent> take_liveliness_events() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<LivelinessEvent> out;
+    out.swap(liveliness_events_);
+    return out;
+  }
+
+  int matched() const { return status_.matched.load(); }
+  const EndpointStatus& status() const { return status_; }
+  eprosima::fastdds::dds::DataReader* get() const { return reader_; }
+
+ private:
+  void on_data_available(eprosima::fastdds::dds::DataReader*) override {
+    if (wakeup_) wakeup_->notify();
+  }
+  void on_subscription_matched(eprosima::fastdds::dds::DataReader*,
+                               const eprosima::fastdds::dds::SubscriptionMatchedStatus& info) override {
+    status_.matched = info.current_count;
+  }
+  void on_requested_deadline_missed(eprosima::fastdds::dds::DataReader*,
+                                    const eprosima::fastdds::dds::RequestedDeadlineMissedStatus&) override {
+    ++status_.deadline_missed;
+  }
+  void on_sample_lost(eprosima::fastdds::dds::DataReader*,
+                      const eprosima::fastdds::dds::SampleLostStatus& s) override {
+    status_.samples_lost = static_cast<uint64_t>(s.total_count);
+  }
+  void on_requested_incompatible_qos(eprosima::fastdds::dds::DataReader*,
+                                     const eprosima::fastdds::dds::RequestedIncompatibleQosStatus&) override {
+    ++status_.incompatible_qos;
+  }
+  void on_liveliness_changed(eprosima::fastdds::dds::DataReader*,
+                             const eprosima::fastrtps::LivelinessChangedStatus& s) override {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (s.alive_count_change > 0) liveliness_events_.push_back({s.last_publication_handle, true});
+      if (s.not_alive_count_change > 0 || s.alive_count_change < 0)
+        liveliness_events_.push_back({s.last_publication_handle, false});
+    }
+    if (wakeup_) wakeup_->notify();
+  }
+
+  Participant& participant_;
+  Wakeup* wakeup_;
+  eprosima::fastdds::dds::DataReader* reader_ = nullptr;
+  EndpointStatus status_;
+  std::mutex mutex_;
+  std::vector<LivelinessEvent> liveliness_events_;
+};
+
+}  // namespace windfdi::bus

@@ -1,0 +1,136 @@
+// RAII DDS participant built from the XML QoS profiles in deploy/qos/.
+#include "participant.hpp"
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+#include <spdlog/spdlog.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <set>
+#include <stdexcept>
+
+#include "yaml_config.hpp"
+
+#ifndef WINDFDI_SOURCE_DEPLOY_DIR
+#define WINDFDI_SOURCE_DEPLOY_DIR ""
+#endif
+#ifndef WINDFDI_INSTALL_CONFIG_DIR
+#define WINDFDI_INSTALL_CONFIG_DIR "/etc/windfdi"
+#endif
+
+namespace windfdi {
+void register_type_objects();  // idl/register_type_objects.cpp
+}
+
+namespace windfdi::bus {
+
+using namespace eprosima::fastdds::dds;
+
+std::string resolve_qos_file(const std::string& requested) {
+  if (!requested.empty()) return requested;
+  if (const char* env = std::getenv("WINDFDI_QOS_FILE"); env && *env) return env;
+  const std::string source = std::string(WINDFDI_SOURCE_DEPLOY_DIR) + "/qos/windfdi_qos.xml";
+  if (std::filesystem::exists(source)) return source;
+  return std::string(WINDFDI_INSTALL_CONFIG_DIR) + "/qos/windfdi_qos.xml";
+}
+
+namespace {
+// The factory is process-wide; each profile file is loaded into it once.
+void load_profiles_once(const std::string& file) {
+  static std::mutex mutex;
+  static std::set<std::string> loaded;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (loaded.count(file)) return;
+  if (!std::filesystem::exists(file)) throw ConfigError(file, 0, "", "QoS profile file not found");
+  if (DomainParticipantFactory::get_instance()->load_XML_profiles_file(file) != ReturnCode_t::RETCODE_OK)
+    throw ConfigError(file, 0, "", "Fast DDS rejected the QoS profile file (see its log above)");
+  loaded.insert(file);
+  for (const char* var : {"FASTRTPS_DEFAULT_PROFILES_FILE", "FASTDDS_ENVIRONMENT_FILE", "ROS_DISCOVERY_SERVER"})
+    if (const char* v = std::getenv(var); v && *v)
+      spdlog::warn("{}={} is set: it changes Fast DDS behaviour beside {}", var, v, file);
+}
+}  // namespace
+
+Participant::Participant(const ParticipantOptions& options) : domain_(options.domain) {
+  if (options.domain < 0 || options.domain > 232)
+    throw ConfigError("--domain", 0, "", "domain id " + std::to_string(options.domain) + " is outside 0..232");
+  const std::string file = resolve_qos_file(options.qos_file);
+  load_profiles_once(file);
+  register_type_objects();
+  auto* factory = DomainParticipantFactory::get_instance();
+  DomainParticipantQos qos;
+  if (factory->get_participant_qos_from_profile(options.profile, qos) != ReturnCode_t::RETCODE_OK)
+    throw ConfigError(file, 0, options.profile, "no such participant profile");
+  qos.name(options.name);
+  participant_ = factory->create_participant(options.domain, qos);
+  if (!participant_)
+    throw std::runtime_error("cannot create DDS participant on domain " + std::to_string(options.domain) +
+                             " with profile " + options.profile);
+  spdlog::debug("participant '{}' on domain {} (profile {}, {})", options.name, options.domain, options.profile,
+                file);
+}
+
+Participant::~Participant() {
+  if (!participant_) return;
+  participant_->delete_contained_entities();
+  DomainParticipantFactory::get_instance()->delete_participant(participant_);
+}
+
+Publisher* Participant::publisher() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!publisher_) {
+    publisher_ = participant_->create_publisher(PUBLISHER_QOS_DEFAULT);
+    if (!publisher_) throw std::runtime_error("cannot create DDS publisher");
+  }
+  return publisher_;
+}
+
+Subscriber* Participant::subscriber() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!subscriber_) {
+    subscriber_ = participant_->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
+    if (!subscriber_) throw std::runtime_error("cannot create DDS subscriber");
+  }
+  return subscriber_;
+}
+
+Topic* Participant::topic(const std::string& name, TypeSupport type) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = topics_.find(name);
+  if (it != topics_.end()) return it->second;
+  // Registering a type a second time under the same name is accepted by Fast DDS.
+  if (type.register_type(participant_) != ReturnCode_t::RETCODE_OK)
+    throw std::runtime_error("cannot register DDS type " + type.get_type_name());
+  Topic* t = participant_->create_topic(name, type.get_type_name(), TOPIC_QOS_DEFAULT);
+  if (!t) throw std::runtime_error("cannot create DDS topic " + name);
+  topics_[name] = t;
+  return t;
+}
+
+std::string turbine_filter_expression(const std::vector<std::string>& turbine_ids,
+                                      std::vector<std::string>& parameters) {
+  std::string expr;
+  parameters.clear();
+  for (std::size_t i = 0; i < turbine_ids.size(); ++i) {
+    expr += (i ? " OR " : "") + std::string("turbine_id = %") + std::to_string(i);
+    parameters.push_back("'" + turbine_ids[i] + "'");
+  }
+  return expr;
+}
+
+TopicDescription* Participant::topic_for_turbines(const std::string& name, TypeSupport type,
+                                                  const std::vector<std::string>& turbine_ids) {
+  Topic* base = topic(name, type);
+  if (turbine_ids.empty()) return base;
+  if (turbine_ids.size() > 100) throw ConfigError("--turbine", 0, "", "at most 100 turbine filters");
+  std::vector<std::string> params;
+  const std::string expr = turbine_filter_expression(turbine_ids, params);
+  std::lock_guard<std::mutex> lock(mutex_);
+  const std::string cft_name = name + "/filtered_" + std::to_string(filtered_topics_++);
+  ContentFilteredTopic* cft = participant_->create_contentfilteredtopic(cft_name, base, expr, params);
+  if (!cft) throw std::runtime_error("cannot create content filter '" + expr + "' on " + name);
+  return cft;
+}
+
+}  // namespace windfdi::bus

@@ -1,0 +1,46 @@
+// ServiceHealth publishing (1 Hz per served turbine): samples in, samples rejected, sequence gaps, lag.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "ServiceHealth.h"
+#include "dds/endpoints.hpp"
+
+namespace windfdi {
+
+/// Counts per turbine and publishes them once a second; the writer's liveliness lease lets every reader
+/// notice when this service dies. Called from the node's loop only (not thread-safe by design).
+class HealthReporter {
+ public:
+  /// `turbines`: the ids this instance serves (empty: every turbine, reported as "*" until seen).
+  HealthReporter(bus::Participant& participant, std::string service, std::vector<std::string> turbines);
+
+  void count_in(const std::string& turbine, uint64_t n = 1) { entry(turbine).samples_in += n; }
+  void count_rejected(const std::string& turbine, uint64_t n = 1) { entry(turbine).samples_rejected += n; }
+  void count_gap(const std::string& turbine, uint64_t lost) { entry(turbine).sequence_gaps += lost; }
+  void set_lag(const std::string& turbine, double seconds) { entry(turbine).lag = seconds; }
+  void set_state(windfdi::ServiceState state, const std::string& detail = "");
+
+  /// Publishes when a second has passed since the last report (or `force`).
+  void tick(double wall_now, bool force = false);
+  uint64_t total_rejected() const;
+
+ private:
+  struct Counters {
+    uint64_t samples_in = 0, samples_rejected = 0, sequence_gaps = 0;
+    double lag = 0.0;
+  };
+  Counters& entry(const std::string& turbine);
+
+  bus::Writer<windfdi::ServiceHealth> writer_;
+  std::string service_;
+  std::map<std::string, Counters> counters_;
+  windfdi::ServiceState state_ = windfdi::SERVICE_STARTING;
+  std::string detail_;
+  double last_report_ = -1e300;
+};
+
+}  // namespace windfdi

@@ -1,0 +1,24 @@
+// Canonical component and fault-class names (ARCHITECTURE.md "Canonical names"), shared by every module.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace windfdi {
+
+/// Fault classes in the order of the IDL enum FaultClass (index = enum value).
+const std::vector<std::string>& fault_class_names();
+/// Severities in the order of the IDL enum Severity.
+const std::vector<std::string>& severity_names();
+/// Every canonical diagnosable component (service names, used for health, are not listed).
+const std::vector<std::string>& component_names();
+/// Names of the diagnostic services, which are also components for `service_lost`.
+const std::vector<std::string>& service_names();
+
+/// Index of `name` in `names`, or -1.
+int name_index(const std::vector<std::string>& names, const std::string& name);
+bool is_component(const std::string& name);
+/// The fault classes that make sense on a component (e.g. pitch actuator classes on pitch_actuator_2).
+std::vector<std::string> fault_classes_for(const std::string& component);
+
+}  // namespace windfdi

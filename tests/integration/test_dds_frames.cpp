@@ -1,0 +1,104 @@
+// Two-process DDS test: one process publishes TurbineFrames for 3 turbines, others receive them.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include <csignal>
+#include <filesystem>
+
+#include "process.hpp"
+
+using namespace windfdi::test;
+
+namespace {
+
+nlohmann::json last_json_line(const std::string& text) {
+  const auto end = text.find_last_not_of('\n');
+  if (end == std::string::npos) return {};
+  const auto start = text.rfind('\n', end);
+  return nlohmann::json::parse(text.substr(start == std::string::npos ? 0 : start + 1, end + 1));
+}
+
+int count_domain_shm(int domain) {
+  int n = 0;
+  for (const auto& e : std::filesystem::directory_iterator("/dev/shm")) {
+    const std::string name = e.path().filename().string();
+    for (int offset = 0; offset < 250; ++offset)
+      if (name.find("fastrtps_port" + std::to_string(7400 + 250 * domain + offset)) != std::string::npos) ++n;
+  }
+  return n;
+}
+
+bool wait_ready(ChildProcess& p, std::chrono::seconds timeout) {
+  const auto end = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < end) {
+    if (p.stdout_text().find("\"ready\"") != std::string::npos) return true;
+    if (!p.running()) return false;  // it died: say so now rather than after the timeout
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return false;
+}
+
+class DdsFrames : public ::testing::Test {
+ protected:
+  void TearDown() override { remove_stale_shm(domain); }
+  int domain = private_domain(1);
+};
+
+TEST_F(DdsFrames, FilteredAndUnfilteredReadersGetExactlyTheirTurbines) {
+  // GIVEN a reader of every turbine and a reader filtered to WT02, on a private domain
+  const auto env = dds_env(domain);
+  const int blocks = 50, block = 10;
+  ChildProcess all({bin("windfdi-test-peer"), "listen", "--expect", std::to_string(3 * blocks * block),
+                    "--timeout", "40"},
+                   env, "listen-all");
+  ChildProcess one({bin("windfdi-test-peer"), "listen", "--turbine", "WT02", "--expect",
+                    std::to_string(blocks * block), "--timeout", "40"},
+                   env, "listen-wt02");
+  ASSERT_TRUE(wait_ready(all, std::chrono::seconds(20))) << all.stderr_text();
+  ASSERT_TRUE(wait_ready(one, std::chrono::seconds(20))) << one.stderr_text();
+
+  // WHEN a publisher in a third process sends 50 blocks of 10 samples for WT01, WT02 and WT03
+  ChildProcess pub({bin("windfdi-test-peer"), "publish", "--ids", "WT01,WT02,WT03", "--blocks",
+                    std::to_string(blocks), "--block", std::to_string(block), "--readers", "2"},
+                   env, "publish");
+  ASSERT_EQ(pub.wait(std::chrono::seconds(60)), 0) << pub.stderr_text();
+  ASSERT_EQ(all.wait(std::chrono::seconds(45)), 0) << all.stdout_text() << all.stderr_text();
+  ASSERT_EQ(one.wait(std::chrono::seconds(45)), 0) << one.stdout_text() << one.stderr_text();
+
+  // THEN the unfiltered reader has every sample of every turbine, in sequence
+  const auto a = last_json_line(all.stdout_text());
+  EXPECT_EQ(a["total"].get<int>(), 3 * blocks * block);
+  for (const char* id : {"WT01", "WT02", "WT03"}) EXPECT_EQ(a["counts"][id].get<int>(), blocks * block) << id;
+  EXPECT_TRUE(a["gaps"].empty()) << a.dump();
+  // AND the filtered reader has WT02's samples and nothing else
+  const auto o = last_json_line(one.stdout_text());
+  EXPECT_EQ(o["total"].get<int>(), blocks * block);
+  EXPECT_EQ(o["counts"].size(), 1u) << o.dump();
+  EXPECT_EQ(o["counts"]["WT02"].get<int>(), blocks * block);
+}
+
+TEST_F(DdsFrames, ListenerGivesUpWithoutPublisherAndSaysSo) {
+  // GIVEN a reader expecting samples WHEN nobody publishes THEN it exits 1 after its timeout, not hangs
+  ChildProcess lone({bin("windfdi-test-peer"), "listen", "--expect", "10", "--timeout", "2"}, dds_env(domain),
+                    "lone");
+  EXPECT_EQ(lone.wait(std::chrono::seconds(20)), 1) << lone.stderr_text();
+  EXPECT_EQ(last_json_line(lone.stdout_text())["total"].get<int>(), 0);
+}
+
+TEST_F(DdsFrames, SigtermExitsCleanlyAndLeavesNoSharedMemory) {
+  // GIVEN a running DDS participant on a private domain
+  ChildProcess p({bin("windfdi-test-peer"), "listen", "--expect", "1000000", "--timeout", "60"}, dds_env(domain),
+                 "sigterm");
+  ASSERT_TRUE(wait_ready(p, std::chrono::seconds(20))) << p.stderr_text();
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  ASSERT_GT(count_domain_shm(domain), 0) << "the participant should hold shared-memory port files";
+  // WHEN it receives SIGTERM
+  const int rc = p.stop(SIGTERM, std::chrono::seconds(10));
+  // THEN it exits 0 and its domain's shared-memory port files are gone
+  EXPECT_EQ(rc, 0) << p.stderr_text();
+  EXPECT_EQ(count_domain_shm(domain), 0);
+}
+
+}  // namespace

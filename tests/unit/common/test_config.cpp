@@ -1,0 +1,78 @@
+// Unit tests of the YAML configuration helpers: defaults, ranges, unknown keys, errors naming file and key.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "process.hpp"
+#include "yaml_config.hpp"
+
+using windfdi::ConfigError;
+using windfdi::YamlSection;
+
+namespace {
+
+std::string write_yaml(const std::string& name, const std::string& text) {
+  const std::string path = windfdi::test::temp_dir("config") + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(YamlConfig, DefaultsApplyWhenKeysAreAbsent) {
+  // GIVEN a file that sets one key
+  const auto cfg = YamlSection::load_file(write_yaml("a.yaml", "forgetting_factor: 0.95\n"));
+  // THEN the set key is read and the absent one falls back to its default
+  EXPECT_DOUBLE_EQ(cfg.get_number("forgetting_factor", 0.97, 0.0, 1.0), 0.95);
+  EXPECT_EQ(cfg.get<int>("innovation_length", 8), 8);
+}
+
+TEST(YamlConfig, UnknownKeyNamesFileLineKeyAndChoices) {
+  const std::string path = write_yaml("b.yaml", "forgetting_factor: 0.95\nforgeting_factr: 1\n");
+  const auto cfg = YamlSection::load_file(path);
+  try {
+    cfg.require_known_keys({"forgetting_factor", "innovation_length"});
+    FAIL() << "unknown key accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.file(), path);
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_EQ(e.key(), "forgeting_factr");
+    EXPECT_NE(std::string(e.what()).find("innovation_length"), std::string::npos) << e.what();
+  }
+}
+
+TEST(YamlConfig, OutOfRangeAndWrongTypeAreErrors) {
+  const auto cfg = YamlSection::load_file(write_yaml("c.yaml", "lambda: 1.5\np: eight\nnested:\n  x: -1\n"));
+  EXPECT_THROW(cfg.get_number("lambda", 0.97, 0.0, 1.0), ConfigError);
+  EXPECT_THROW(cfg.get<int>("p", 8), ConfigError);
+  try {
+    cfg.section("nested").get_number("x", 0.0, 0.0, 10.0);
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), "nested.x");
+    EXPECT_EQ(e.line(), 4);
+  }
+}
+
+TEST(YamlConfig, SyntaxErrorAndMissingFileAreConfigErrors) {
+  const std::string path = write_yaml("d.yaml", "a: [1, 2\n");
+  try {
+    YamlSection::load_file(path);
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.file(), path);
+    EXPECT_GT(e.line(), 0);
+  }
+  EXPECT_THROW(YamlSection::load_file("/nonexistent/windfdi.yaml"), ConfigError);
+}
+
+TEST(YamlConfig, ChoiceAndSequence) {
+  const auto cfg =
+      YamlSection::load_file(write_yaml("e.yaml", "mode: paper\nturbines:\n  - id: WT01\n  - id: WT02\n"));
+  EXPECT_EQ(cfg.get_choice("mode", "default", {"paper", "default"}), "paper");
+  EXPECT_THROW(cfg.get_choice("mode", "x", {"a", "b"}), ConfigError);
+  const auto t = cfg.sequence("turbines");
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_EQ(t[1].require<std::string>("id"), "WT02");
+  EXPECT_THROW(t[0].require<std::string>("mean_wind"), ConfigError);
+}
+
+}  // namespace

@@ -1,0 +1,65 @@
+// Unit tests of canonical names, IDL conversions and the per-turbine content filter expression.
+#include <gtest/gtest.h>
+
+#include "dds/convert.hpp"
+#include "dds/participant.hpp"
+#include "names.hpp"
+
+using namespace windfdi;
+
+TEST(Names, FaultClassesFollowTheIdlEnumOrder) {
+  // The string table and the IDL enum must agree value for value.
+  EXPECT_EQ(bus::fault_class_name(windfdi::FAULT_NONE), "none");
+  EXPECT_EQ(bus::fault_class_name(windfdi::FAULT_HYDRAULIC_LEAKAGE), "hydraulic_leakage");
+  EXPECT_EQ(bus::fault_class_name(windfdi::FAULT_SERVICE_LOST), "service_lost");
+  EXPECT_EQ(bus::severity_name(windfdi::SEVERITY_CRITICAL), "critical");
+  windfdi::FaultClass c;
+  EXPECT_TRUE(bus::fault_class_from_name("ice_shedding", c));
+  EXPECT_EQ(c, windfdi::FAULT_ICE_SHEDDING);
+  EXPECT_FALSE(bus::fault_class_from_name("ice_storm", c));
+}
+
+TEST(Names, ComponentsAndTheirClasses) {
+  EXPECT_TRUE(is_component("pitch_actuator_3"));
+  EXPECT_TRUE(is_component("sensor_bias"));  // a service, for service_lost
+  EXPECT_FALSE(is_component("pitch_actuator_4"));
+  EXPECT_EQ(fault_classes_for("rotor"), (std::vector<std::string>{"ice_accretion", "ice_shedding"}));
+  EXPECT_TRUE(fault_classes_for("nacelle").empty());
+}
+
+TEST(Convert, FaultEventToReportAndBack) {
+  FaultEvent e;
+  e.t = 3.0;
+  e.turbine_id = "WT01";
+  e.source = "blade_load";
+  e.component = "blade_moment_sensor_1";
+  e.fault = "sensor_drift";
+  e.severity = "warning";
+  e.size = 0.05;
+  const auto r = bus::to_idl(e);
+  EXPECT_EQ(r.fault_class(), windfdi::FAULT_SENSOR_DRIFT);
+  EXPECT_EQ(r.severity(), windfdi::SEVERITY_WARNING);
+  const auto back = bus::to_event(r);
+  EXPECT_EQ(back.fault, "sensor_drift");
+  EXPECT_EQ(back.size, 0.05);
+  e.fault = "melted";
+  EXPECT_THROW(bus::to_idl(e), std::invalid_argument);
+}
+
+TEST(Convert, SampleRoundTrip) {
+  FrameSample s;
+  s.sequence = 42;
+  s.t = 0.42;
+  s.pitch = {1, 2, 3};
+  s.valid_mask = kValidAll & ~kValidLidar;
+  const auto back = bus::to_sample(bus::to_idl(s));
+  EXPECT_EQ(back.sequence, 42u);
+  EXPECT_EQ(back.pitch, s.pitch);
+  EXPECT_EQ(back.valid_mask, s.valid_mask);
+}
+
+TEST(ContentFilter, ExpressionSelectsEachTurbineByKey) {
+  std::vector<std::string> params;
+  EXPECT_EQ(bus::turbine_filter_expression({"WT01", "WT07"}, params), "turbine_id = %0 OR turbine_id = %1");
+  EXPECT_EQ(params, (std::vector<std::string>{"'WT01'", "'WT07'"}));
+}
