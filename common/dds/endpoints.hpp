@@ -133,6 +133,12 @@ class Writer : private eprosima::fastdds::dds::DataWriterListener {
   std::atomic<uint64_t> write_failures_{0};
 };
 
+/// Where and when a taken sample was written.
+struct SampleMeta {
+  eprosima::fastrtps::rtps::InstanceHandle_t writer;  ///< publication handle of the writer
+  double source_time = 0.0;                           ///< writer's time stamp (s since the Unix epoch)
+};
+
 /// Liveliness of the writers a reader follows: who came, who went (by publication handle).
 struct LivelinessEvent {
   eprosima::fastrtps::rtps::InstanceHandle_t writer;
@@ -166,10 +172,9 @@ class Reader : private eprosima::fastdds::dds::DataReaderListener {
   Reader(const Reader&) = delete;
   Reader& operator=(const Reader&) = delete;
 
-  /// Takes every available valid sample (appending to `out`); returns how many. `writers`, when given,
-  /// receives the publication handle of each sample's writer.
-  std::size_t take(std::vector<T>& out,
-                   std::vector<eprosima::fastrtps::rtps::InstanceHandle_t>* writers = nullptr) {
+  /// Takes every available valid sample (appending to `out`); returns how many. `meta`, when given,
+  /// receives each sample's writer and source time stamp.
+  std::size_t take(std::vector<T>& out, std::vector<SampleMeta>* meta = nullptr) {
     std::size_t n = 0;
     T sample;
     eprosima::fastdds::dds::SampleInfo info;
@@ -177,7 +182,7 @@ class Reader : private eprosima::fastdds::dds::DataReaderListener {
       // Disposals and unregistrations arrive as invalid samples.
       if (!info.valid_data) continue;
       out.push_back(sample);
-      if (writers) writers->push_back(info.publication_handle);
+      if (meta) meta->push_back({info.publication_handle, info.source_timestamp.to_ns() * 1e-9});
       ++n;
     }
     return n;

@@ -1,0 +1,70 @@
+// The replay contract's driver: recorded frames in, estimates CSV and fault events (JSON Lines) out.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "csv.hpp"
+#include "fault_event.hpp"
+#include "frame_sample.hpp"
+#include "jsonl.hpp"
+
+namespace windfdi {
+
+struct ReplayOptions {
+  std::string frames;     ///< --replay: input CSV (plain or .gz)
+  std::string estimates;  ///< --estimates: output CSV (empty: none)
+  std::string events;     ///< --events: output JSON Lines (empty: none)
+};
+
+/// Where a service writes what it produces during a replay.
+class ReplaySink {
+ public:
+  ReplaySink(const ReplayOptions& options, const std::vector<std::string>& estimate_columns);
+  /// One estimate row: `t`, `turbine_id`, then one value per estimate column (numbers or text).
+  void estimate(double t, const std::string& turbine_id, const std::vector<std::string>& values);
+  void event(const FaultEvent& e);
+  uint64_t estimates_written() const { return estimates_; }
+  uint64_t events_written() const { return events_; }
+
+ private:
+  std::unique_ptr<CsvWriter> csv_;
+  std::unique_ptr<JsonlWriter> jsonl_;
+  uint64_t estimates_ = 0, events_ = 0;
+};
+
+/// Counts of a replay run, logged at the end.
+struct ReplayStats {
+  uint64_t samples = 0;
+  uint64_t rejected = 0;
+  uint64_t sequence_gaps = 0;
+  uint64_t estimates = 0;
+  uint64_t events = 0;
+};
+
+/// Per-sample callback: returns false when the sample was rejected (NaN, out of range); `gap` is true
+/// when samples were lost before this one (the core restarts its history).
+using ReplayProcess =
+    std::function<bool(const std::string& turbine_id, const FrameSample& sample, bool gap, ReplaySink& sink)>;
+
+/// Reads every sample of `options.frames` in order and hands it to `process`. A malformed file throws
+/// ConfigError (exit code 2) naming file, line and column.
+ReplayStats run_replay(const ReplayOptions& options, const std::vector<std::string>& estimate_columns,
+                       const ReplayProcess& process);
+
+/// Detects lost samples from per-turbine sequence numbers.
+class SequenceTracker {
+ public:
+  /// Number of samples lost before `sequence` (0 when consecutive or first).
+  uint64_t lost_before(uint64_t sequence);
+  void reset() { started_ = false; }
+
+ private:
+  bool started_ = false;
+  uint64_t next_ = 0;
+};
+
+}  // namespace windfdi

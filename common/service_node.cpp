@@ -1,0 +1,76 @@
+// The DDS side every diagnostic service shares.
+#include "service_node.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include "dds/convert.hpp"
+
+namespace windfdi {
+
+DiagnosticNode::DiagnosticNode(const CommonOptions& options, const std::string& service)
+    : service_(service),
+      turbines_(options.turbines),
+      participant_(participant_options(options, "windfdi-" + service)),
+      frames_(participant_, options.turbines, &wakeup_),
+      faults_(participant_),
+      health_(participant_, service, options.turbines) {}
+
+void DiagnosticNode::subscribe_lidar(LidarFn on_lidar) {
+  on_lidar_ = std::move(on_lidar);
+  lidar_ = std::make_unique<bus::Reader<windfdi::LidarFrame>>(participant_, turbines_, &wakeup_);
+}
+
+void DiagnosticNode::publish(const FaultEvent& e) {
+  try {
+    if (!faults_.write(bus::to_idl(e))) spdlog::error("fault report not written (DDS resource limits?)");
+  } catch (const std::invalid_argument& err) {
+    spdlog::error("not publishing a fault with {}: {}", err.what(), e.component);
+    return;
+  }
+  const auto level = e.raised ? spdlog::level::warn : spdlog::level::info;
+  spdlog::log(level, "{} {} {} {} ({}, statistic {:.3g}, size {:.3g}) {}", e.turbine_id, e.component, e.fault,
+              e.raised ? "RAISED" : "cleared", e.severity, e.statistic, e.size, e.detail);
+}
+
+void DiagnosticNode::run(const SampleFn& process, const std::function<void(double)>& periodic) {
+  health_.set_state(windfdi::SERVICE_OK);
+  std::vector<windfdi::TurbineFrame> frames;
+  std::vector<bus::SampleMeta> meta;
+  std::vector<windfdi::LidarFrame> lidar;
+  double last_periodic = 0.0;
+  while (!shutdown_requested()) {
+    wakeup_.wait_for(std::chrono::milliseconds(100));
+    if (lidar_) {
+      lidar.clear();
+      lidar_->take(lidar);
+      for (const auto& f : lidar) on_lidar_(f.turbine_id(), f);
+    }
+    frames.clear();
+    meta.clear();
+    frames_.take(frames, &meta);
+    const double now = wall_time();
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      const std::string& id = frames[i].turbine_id();
+      auto& tracker = sequence_[id];
+      for (const auto& s : frames[i].samples()) {
+        const uint64_t lost = tracker.lost_before(s.sequence());
+        if (lost) {
+          health_.count_gap(id, lost);
+          spdlog::warn("{}: {} samples lost before sequence {}; restarting history", id, lost, s.sequence());
+        }
+        health_.count_in(id);
+        if (!process(id, bus::to_sample(s), lost > 0)) health_.count_rejected(id);
+      }
+      health_.set_lag(id, std::max(0.0, now - meta[i].source_time));
+    }
+    if (now - last_periodic >= 0.1) {
+      last_periodic = now;
+      if (periodic) periodic(now);
+    }
+    health_.tick(now);
+  }
+  health_.set_state(windfdi::SERVICE_STOPPING);
+  health_.tick(wall_time(), true);
+}
+
+}  // namespace windfdi

@@ -1,0 +1,57 @@
+// The DDS side every diagnostic service shares: frames in (per-turbine filter), sequence gaps, fault
+// reports and health out. A service adds its core and its estimate writer.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "LidarFrame.h"
+#include "TurbineFrame.h"
+#include "app.hpp"
+#include "dds/endpoints.hpp"
+#include "fault_event.hpp"
+#include "frame_sample.hpp"
+#include "health.hpp"
+#include "replay.hpp"
+
+namespace windfdi {
+
+class DiagnosticNode {
+ public:
+  /// Per-sample callback: false when the core rejected the sample; `gap` when samples were lost before it.
+  using SampleFn = std::function<bool(const std::string& turbine_id, const FrameSample& sample, bool gap)>;
+  using LidarFn = std::function<void(const std::string& turbine_id, const windfdi::LidarFrame& frame)>;
+
+  DiagnosticNode(const CommonOptions& options, const std::string& service);
+
+  bus::Participant& participant() { return participant_; }
+  HealthReporter& health() { return health_; }
+  const std::string& service() const { return service_; }
+
+  /// Also follow wt/lidar (must be called before run()).
+  void subscribe_lidar(LidarFn on_lidar);
+
+  /// Runs until SIGINT/SIGTERM: every sample goes to `process` in order; `periodic(wall_now)` runs at
+  /// least every 100 ms (estimate publishing at the service's rate, health).
+  void run(const SampleFn& process, const std::function<void(double)>& periodic = {});
+
+  /// Publishes a raised or cleared fault (FaultReport) and logs it. An event with a non-canonical
+  /// class is logged and counted, never published.
+  void publish(const FaultEvent& event);
+
+ private:
+  std::string service_;
+  std::vector<std::string> turbines_;
+  bus::Participant participant_;
+  bus::Wakeup wakeup_;
+  bus::Reader<windfdi::TurbineFrame> frames_;
+  bus::Writer<windfdi::FaultReport> faults_;
+  HealthReporter health_;
+  std::unique_ptr<bus::Reader<windfdi::LidarFrame>> lidar_;
+  LidarFn on_lidar_;
+  std::map<std::string, SequenceTracker> sequence_;
+};
+
+}  // namespace windfdi
