@@ -1,0 +1,235 @@
+// The fault-tolerant control arbiter's decision function (decision table: deploy/arbiter/README.md).
+#include "decision.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <tuple>
+
+#include "names.hpp"
+
+namespace windfdi::arbiter {
+
+const char* to_string(Mode m) {
+  switch (m) {
+    case Mode::kNormal: return "normal";
+    case Mode::kDegraded: return "degraded";
+    case Mode::kSafeStop: return "safe_stop";
+  }
+  return "?";
+}
+const char* to_string(IpcSource s) {
+  switch (s) {
+    case IpcSource::kStrainGauge: return "strain_gauge";
+    case IpcSource::kLidarModel: return "lidar_model";
+    case IpcSource::kOff: return "off";
+  }
+  return "?";
+}
+const char* to_string(IceMode m) {
+  switch (m) {
+    case IceMode::kNormal: return "normal";
+    case IceMode::kAdapted: return "adapted";
+    case IceMode::kStop: return "stop";
+  }
+  return "?";
+}
+
+ArbiterConfig load_arbiter_config(const YamlSection& s) {
+  s.require_known_keys({"clear_hold", "nominal_pitch_rate", "derated_pitch_rate", "rotor_speed_bias_limit",
+                        "generator_speed_bias_limit", "pitch_bias_limit", "has_lidar"});
+  ArbiterConfig c;
+  c.clear_hold = s.get_number("clear_hold", c.clear_hold, 0.0, 3600.0);
+  c.nominal_pitch_rate = s.get_number("nominal_pitch_rate", c.nominal_pitch_rate, 1.0, 30.0);
+  c.derated_pitch_rate = s.get_number("derated_pitch_rate", c.derated_pitch_rate, 0.5, 30.0);
+  if (c.derated_pitch_rate > c.nominal_pitch_rate)
+    throw s.error("derated_pitch_rate", "must not exceed nominal_pitch_rate");
+  c.rotor_speed_bias_limit = s.get_number("rotor_speed_bias_limit", c.rotor_speed_bias_limit, 0.0, 10.0);
+  c.generator_speed_bias_limit =
+      s.get_number("generator_speed_bias_limit", c.generator_speed_bias_limit, 0.0, 1000.0);
+  c.pitch_bias_limit = s.get_number("pitch_bias_limit", c.pitch_bias_limit, 0.0, 90.0);
+  c.has_lidar = s.get<bool>("has_lidar", c.has_lidar);
+  return c;
+}
+
+bool Configuration::operator==(const Configuration& o) const {
+  return mode == o.mode && ipc_source == o.ipc_source && use_corrected_rotor_speed == o.use_corrected_rotor_speed &&
+         use_corrected_generator_speed == o.use_corrected_generator_speed &&
+         use_corrected_pitch == o.use_corrected_pitch && pitch_rate_limit == o.pitch_rate_limit &&
+         ice_mode == o.ice_mode && inertia == o.inertia && reasons == o.reasons;
+}
+
+Arbiter::Arbiter(const ArbiterConfig& config) : config_(config) {}
+
+namespace {
+std::string cause_key(const FaultEvent& e) { return e.source + "/" + e.component + "/" + e.fault; }
+// Blade index (0-based) from a component ending in _1.._3, or -1.
+int blade_of(const std::string& component) {
+  const char last = component.empty() ? 0 : component.back();
+  return (last >= '1' && last <= '3') ? last - '1' : -1;
+}
+bool starts_with(const std::string& s, const char* p) { return s.rfind(p, 0) == 0; }
+}  // namespace
+
+bool Arbiter::on_fault(const FaultEvent& e, double now) {
+  const auto classes = fault_classes_for(e.component);
+  if (!is_component(e.component) || std::find(classes.begin(), classes.end(), e.fault) == classes.end() ||
+      e.fault == "service_lost" || name_index(severity_names(), e.severity) < 0) {
+    ++rejected_;
+    return false;
+  }
+  const std::string key = cause_key(e);
+  if (e.raised) {
+    Cause& c = causes_[key];
+    c.event = e;
+    c.raised = true;
+    // Critical faults, and a leaking actuator (safe stop), stay latched until acknowledged.
+    c.latched = c.latched || e.severity == "critical" || e.fault == "hydraulic_leakage";
+  } else {
+    auto it = causes_.find(key);
+    if (it == causes_.end()) return true;  // clearing something never raised here: nothing to undo
+    if (it->second.raised) it->second.cleared_at = now;
+    it->second.raised = false;
+    it->second.event.size = e.size;
+  }
+  return true;
+}
+
+void Arbiter::on_ack(const std::string& component, const std::string& fault, double /*now*/) {
+  for (auto& [key, c] : causes_) {
+    if (c.event.component != component || (fault != "none" && c.event.fault != fault)) continue;
+    c.latched = false;
+    // An acknowledged fault that is already clear is released at once: the operator has looked at it.
+    if (!c.raised) c.cleared_at = -std::numeric_limits<double>::infinity();
+  }
+}
+
+void Arbiter::on_service_alive(const std::string& service, bool alive, double now) {
+  if (name_index(service_names(), service) < 0) return;  // not a diagnostic service: no components
+  if (!alive) {
+    lost_services_[service] = now;
+    recovered_services_.erase(service);
+  } else if (lost_services_.erase(service)) {
+    recovered_services_[service] = now;
+  }
+}
+
+bool Arbiter::acting(const Cause& c, double now) const {
+  return c.raised || c.latched || now - c.cleared_at < config_.clear_hold;
+}
+
+std::vector<std::string> Arbiter::active_causes(double now) const {
+  std::vector<std::string> out;
+  for (const auto& [key, c] : causes_)
+    if (acting(c, now)) out.push_back(key);
+  for (const auto& [s, t] : lost_services_) out.push_back(s + "/" + s + "/service_lost");
+  return out;
+}
+
+namespace {
+template <class E>
+void demand(E& current, E wanted) {
+  if (static_cast<int>(wanted) > static_cast<int>(current)) current = wanted;
+}
+}  // namespace
+
+void Arbiter::apply(const Cause& cause, Configuration& cfg) const {
+  const FaultEvent& e = cause.event;
+  auto reason = [&](const std::string& action) { cfg.reasons.push_back({e.source, e.component, e.fault, action}); };
+  const int blade = blade_of(e.component);
+
+  if (starts_with(e.component, "blade_moment_sensor_")) {
+    // Seed 000's fault-tolerant IPC: the LIDAR load model replaces a failed strain gauge.
+    const bool lidar_ok = config_.has_lidar && !lost_services_.count("blade_load");
+    bool lidar_faulty = false;
+    for (const auto& [k, c] : causes_)
+      if (c.event.component == "lidar" && c.raised) lidar_faulty = true;
+    const IpcSource wanted = (lidar_ok && !lidar_faulty) ? IpcSource::kLidarModel : IpcSource::kOff;
+    demand(cfg.ipc_source, wanted);
+    reason(std::string("ipc_source=") + to_string(wanted));
+  } else if (e.component == "lidar") {
+    if (cfg.ipc_source == IpcSource::kLidarModel) cfg.ipc_source = IpcSource::kOff;
+    reason("lidar_model_unavailable");
+  } else if (e.component == "rotor_speed_sensor" || e.component == "generator_speed_sensor" ||
+             starts_with(e.component, "pitch_sensor_")) {
+    const double limit = e.component == "rotor_speed_sensor"       ? config_.rotor_speed_bias_limit
+                         : e.component == "generator_speed_sensor" ? config_.generator_speed_bias_limit
+                                                                   : config_.pitch_bias_limit;
+    if (e.fault == "sensor_bias") {
+      if (e.component == "rotor_speed_sensor") cfg.use_corrected_rotor_speed = true;
+      if (e.component == "generator_speed_sensor") cfg.use_corrected_generator_speed = true;
+      if (blade >= 0 && starts_with(e.component, "pitch_sensor_")) cfg.use_corrected_pitch[blade] = true;
+      reason("use_corrected_" + e.component);
+    }
+    if (e.fault == "sensor_invalid" || !(std::fabs(e.size) <= limit)) {
+      demand(cfg.mode, Mode::kDegraded);
+      reason("mode=degraded (measurement not trusted)");
+    }
+  } else if (starts_with(e.component, "pitch_actuator_") && blade >= 0) {
+    if (e.fault == "hydraulic_leakage") {
+      demand(cfg.mode, Mode::kSafeStop);
+      reason("mode=safe_stop");
+    } else {
+      cfg.pitch_rate_limit[blade] = std::min(cfg.pitch_rate_limit[blade], config_.derated_pitch_rate);
+      reason("pitch_rate_limit_" + std::to_string(blade + 1) + "=derated; maintenance");
+    }
+  } else if (e.component == "rotor") {
+    if (e.fault == "ice_accretion" && e.severity == "critical") {
+      demand(cfg.ice_mode, IceMode::kStop);
+      demand(cfg.mode, Mode::kSafeStop);
+      reason("ice_mode=stop");
+    } else if (e.fault == "ice_accretion") {
+      demand(cfg.ice_mode, IceMode::kAdapted);
+      reason("ice_mode=adapted");
+    } else {
+      reason("farm_alarm");
+    }
+  }
+}
+
+void Arbiter::apply_service_lost(const std::string& service, Configuration& cfg) const {
+  auto reason = [&](const std::string& action) { cfg.reasons.push_back({service, service, "service_lost", action}); };
+  if (service == "blade_load") {
+    // Nobody watches the strain gauges or the LIDAR: individual pitch control is off.
+    cfg.ipc_source = IpcSource::kOff;
+    reason("ipc_source=off");
+  } else if (service == "sensor_bias") {
+    // The corrected measurements stop arriving and biases go unseen.
+    cfg.use_corrected_rotor_speed = cfg.use_corrected_generator_speed = false;
+    cfg.use_corrected_pitch = {false, false, false};
+    demand(cfg.mode, Mode::kDegraded);
+    reason("mode=degraded; corrected measurements off");
+  } else if (service == "pitch_diag") {
+    for (auto& r : cfg.pitch_rate_limit) r = std::min(r, config_.derated_pitch_rate);
+    demand(cfg.mode, Mode::kDegraded);
+    reason("mode=degraded; pitch rate derated on every blade");
+  } else if (service == "ice_detect") {
+    demand(cfg.mode, Mode::kDegraded);
+    reason("mode=degraded (icing unobserved)");
+  }
+}
+
+Configuration Arbiter::evaluate(double now) {
+  Configuration cfg;
+  cfg.pitch_rate_limit = {config_.nominal_pitch_rate, config_.nominal_pitch_rate, config_.nominal_pitch_rate};
+  for (const auto& [key, c] : causes_)
+    if (acting(c, now)) apply(c, cfg);
+  // A service lost (or back for less than clear_hold) overrides what its own reports asked for.
+  for (auto it = recovered_services_.begin(); it != recovered_services_.end();) {
+    if (now - it->second >= config_.clear_hold) {
+      it = recovered_services_.erase(it);
+    } else {
+      apply_service_lost(it->first, cfg);
+      ++it;
+    }
+  }
+  for (const auto& [service, t] : lost_services_) apply_service_lost(service, cfg);
+  if (cfg.ice_mode == IceMode::kAdapted) cfg.inertia = inertia_;
+  std::sort(cfg.reasons.begin(), cfg.reasons.end(), [](const Reason& a, const Reason& b) {
+    return std::tie(a.source, a.component, a.fault, a.action) < std::tie(b.source, b.component, b.fault, b.action);
+  });
+  cfg.reasons.erase(std::unique(cfg.reasons.begin(), cfg.reasons.end()), cfg.reasons.end());
+  return cfg;
+}
+
+}  // namespace windfdi::arbiter

@@ -1,0 +1,107 @@
+// The fault-tolerant control arbiter's decision function: one turbine's faults, estimates and service
+// health in, its control configuration (with reasons) out. No DDS; time is an argument.
+#pragma once
+
+#include <array>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "fault_event.hpp"
+#include "yaml_config.hpp"
+
+namespace windfdi::arbiter {
+
+// Ordered: a higher value is more conservative, and the most conservative demand wins.
+enum class Mode { kNormal = 0, kDegraded = 1, kSafeStop = 2 };
+enum class IpcSource { kStrainGauge = 0, kLidarModel = 1, kOff = 2 };
+enum class IceMode { kNormal = 0, kAdapted = 1, kStop = 2 };
+/// When a cause stops acting: once it has been clear for `clear_hold`, or only after an operator's ack.
+enum class ClearCondition { kWhenClear, kOnAck };
+
+const char* to_string(Mode m);
+const char* to_string(IpcSource s);
+const char* to_string(IceMode m);
+
+struct ArbiterConfig {
+  double clear_hold = 30.0;             ///< s a cause must stay clear before its action is withdrawn (0..3600)
+  double nominal_pitch_rate = 10.0;     ///< deg/s, pitch rate limit of a healthy blade (1..30)
+  double derated_pitch_rate = 5.0;      ///< deg/s, limit for pump wear / high air content (0.5..30)
+  double rotor_speed_bias_limit = 0.1;  ///< rad/s; a larger rotor speed bias is not trusted (degraded mode)
+  double generator_speed_bias_limit = 10.0;  ///< rad/s; likewise for the generator speed
+  double pitch_bias_limit = 3.0;        ///< deg; likewise for a pitch sensor
+  bool has_lidar = true;                ///< the turbine carries a LIDAR (IPC can fall back to its model)
+};
+
+/// Reads the `arbiter` keys of a YAML file (unknown keys and out-of-range values are ConfigErrors).
+ArbiterConfig load_arbiter_config(const YamlSection& section);
+
+/// Why one part of the configuration is what it is.
+struct Reason {
+  std::string source;     ///< service that reported (or "arbiter" for its own conclusions)
+  std::string component;
+  std::string fault;      ///< canonical fault class
+  std::string action;     ///< e.g. "ipc_source=lidar_model"
+  bool operator==(const Reason& o) const {
+    return source == o.source && component == o.component && fault == o.fault && action == o.action;
+  }
+};
+
+struct Configuration {
+  Mode mode = Mode::kNormal;
+  IpcSource ipc_source = IpcSource::kStrainGauge;
+  bool use_corrected_rotor_speed = false;
+  bool use_corrected_generator_speed = false;
+  std::array<bool, 3> use_corrected_pitch{false, false, false};
+  std::array<double, 3> pitch_rate_limit{10.0, 10.0, 10.0};  ///< deg/s
+  IceMode ice_mode = IceMode::kNormal;
+  double inertia = 0.0;            ///< kg m^2 for the adapted controller (0: nominal)
+  std::vector<Reason> reasons;     ///< sorted
+  /// Same control content and reasons (the revision is the node's business).
+  bool operator==(const Configuration& o) const;
+  bool operator!=(const Configuration& o) const { return !(*this == o); }
+};
+
+/// One turbine's arbiter. Feed it what arrives, then ask for the configuration at a time.
+class Arbiter {
+ public:
+  explicit Arbiter(const ArbiterConfig& config = {});
+
+  /// A FaultReport. Returns false (and counts it) for a component or class that is not canonical or does
+  /// not belong together: such a report is never acted on.
+  bool on_fault(const FaultEvent& event, double now);
+  /// An operator acknowledgement; `fault` "none" acknowledges every class on the component.
+  void on_ack(const std::string& component, const std::string& fault, double now);
+  /// A diagnostic service's liveliness (from wt/health).
+  void on_service_alive(const std::string& service, bool alive, double now);
+  /// The latest inertia estimate (kg m^2, generator side), for the ice-adapted controller.
+  void on_inertia(double inertia) { inertia_ = inertia; }
+
+  /// The configuration every active (or held, or latched) cause demands at `now`.
+  Configuration evaluate(double now);
+
+  uint64_t rejected_reports() const { return rejected_; }
+  /// Causes currently acting, for display: "source/component/fault".
+  std::vector<std::string> active_causes(double now) const;
+
+ private:
+  struct Cause {
+    FaultEvent event;          ///< the latest report of this (source, component, fault)
+    bool raised = false;
+    double cleared_at = 0.0;   ///< arbiter time of the clear
+    bool latched = false;      ///< critical: acts until acknowledged
+  };
+  bool acting(const Cause& c, double now) const;
+  void apply(const Cause& c, Configuration& cfg) const;
+  void apply_service_lost(const std::string& service, Configuration& cfg) const;
+
+  ArbiterConfig config_;
+  std::map<std::string, Cause> causes_;  // key source/component/fault
+  std::map<std::string, double> lost_services_;  // service -> time lost (or time it came back, see below)
+  std::map<std::string, double> recovered_services_;
+  double inertia_ = 0.0;
+  uint64_t rejected_ = 0;
+};
+
+}  // namespace windfdi::arbiter

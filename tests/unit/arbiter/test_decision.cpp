@@ -1,0 +1,276 @@
+// Table-driven tests of the arbiter's decision function, hysteresis, latching and acknowledgement.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "decision.hpp"
+
+using namespace windfdi;
+using namespace windfdi::arbiter;
+
+namespace {
+
+FaultEvent fault(const std::string& source, const std::string& component, const std::string& cls,
+                 const std::string& severity = "fault", double size = 0.0, bool raised = true) {
+  FaultEvent e;
+  e.turbine_id = "WT01";
+  e.source = source;
+  e.component = component;
+  e.fault = cls;
+  e.severity = severity;
+  e.size = size;
+  e.raised = raised;
+  return e;
+}
+
+bool has_reason(const Configuration& c, const std::string& action_prefix) {
+  for (const auto& r : c.reasons)
+    if (r.action.rfind(action_prefix, 0) == 0) return true;
+  return false;
+}
+
+// One row of the decision table: a single fault and what the configuration must then be.
+struct Row {
+  const char* name;
+  FaultEvent event;
+  Mode mode;
+  IpcSource ipc;
+  IceMode ice;
+  std::array<double, 3> rate;
+  bool corrected_rotor, corrected_gen;
+  std::array<bool, 3> corrected_pitch;
+  const char* reason;
+};
+
+class DecisionTable : public ::testing::TestWithParam<Row> {};
+
+TEST_P(DecisionTable, SingleFaultGivesTheTablesConfiguration) {
+  const Row& row = GetParam();
+  // GIVEN a healthy turbine's arbiter
+  Arbiter a;
+  // WHEN the row's fault is reported
+  ASSERT_TRUE(a.on_fault(row.event, 100.0));
+  const Configuration c = a.evaluate(100.0);
+  // THEN the configuration is the table's, and it says why
+  EXPECT_EQ(c.mode, row.mode);
+  EXPECT_EQ(c.ipc_source, row.ipc);
+  EXPECT_EQ(c.ice_mode, row.ice);
+  EXPECT_EQ(c.pitch_rate_limit, row.rate);
+  EXPECT_EQ(c.use_corrected_rotor_speed, row.corrected_rotor);
+  EXPECT_EQ(c.use_corrected_generator_speed, row.corrected_gen);
+  EXPECT_EQ(c.use_corrected_pitch, row.corrected_pitch);
+  EXPECT_TRUE(has_reason(c, row.reason)) << row.name;
+  ASSERT_FALSE(c.reasons.empty());
+  EXPECT_EQ(c.reasons.front().source, row.event.source);
+  EXPECT_EQ(c.reasons.front().fault, row.event.fault);
+}
+
+const std::array<double, 3> kNominal{10, 10, 10};
+const std::array<bool, 3> kNone{false, false, false};
+
+INSTANTIATE_TEST_SUITE_P(
+    Rows, DecisionTable,
+    ::testing::Values(
+        Row{"blade_abrupt", fault("blade_load", "blade_moment_sensor_2", "sensor_abrupt"), Mode::kNormal,
+            IpcSource::kLidarModel, IceMode::kNormal, kNominal, false, false, kNone, "ipc_source=lidar_model"},
+        Row{"blade_drift", fault("blade_load", "blade_moment_sensor_1", "sensor_drift"), Mode::kNormal,
+            IpcSource::kLidarModel, IceMode::kNormal, kNominal, false, false, kNone, "ipc_source=lidar_model"},
+        Row{"blade_intermittent", fault("blade_load", "blade_moment_sensor_3", "sensor_intermittent"),
+            Mode::kNormal, IpcSource::kLidarModel, IceMode::kNormal, kNominal, false, false, kNone,
+            "ipc_source=lidar_model"},
+        Row{"rotor_speed_bias_small", fault("sensor_bias", "rotor_speed_sensor", "sensor_bias", "fault", 0.03),
+            Mode::kNormal, IpcSource::kStrainGauge, IceMode::kNormal, kNominal, true, false, kNone,
+            "use_corrected_rotor_speed"},
+        Row{"rotor_speed_bias_too_large",
+            fault("sensor_bias", "rotor_speed_sensor", "sensor_bias", "fault", 0.5), Mode::kDegraded,
+            IpcSource::kStrainGauge, IceMode::kNormal, kNominal, true, false, kNone, "mode=degraded"},
+        Row{"generator_speed_bias", fault("sensor_bias", "generator_speed_sensor", "sensor_bias", "fault", 3.0),
+            Mode::kNormal, IpcSource::kStrainGauge, IceMode::kNormal, kNominal, false, true, kNone,
+            "use_corrected_generator_speed"},
+        Row{"pitch_bias", fault("sensor_bias", "pitch_sensor_3", "sensor_bias", "fault", 1.0), Mode::kNormal,
+            IpcSource::kStrainGauge, IceMode::kNormal, kNominal, false, false, {false, false, true},
+            "use_corrected_pitch_sensor_3"},
+        Row{"pump_wear", fault("pitch_diag", "pitch_actuator_2", "pump_wear", "warning"), Mode::kNormal,
+            IpcSource::kStrainGauge, IceMode::kNormal, {10, 5, 10}, false, false, kNone, "pitch_rate_limit_2"},
+        Row{"high_air_content", fault("pitch_diag", "pitch_actuator_1", "high_air_content", "warning"),
+            Mode::kNormal, IpcSource::kStrainGauge, IceMode::kNormal, {5, 10, 10}, false, false, kNone,
+            "pitch_rate_limit_1"},
+        Row{"hydraulic_leakage", fault("pitch_diag", "pitch_actuator_3", "hydraulic_leakage", "critical"),
+            Mode::kSafeStop, IpcSource::kStrainGauge, IceMode::kNormal, kNominal, false, false, kNone,
+            "mode=safe_stop"},
+        Row{"ice_accretion", fault("ice_detect", "rotor", "ice_accretion", "warning"), Mode::kNormal,
+            IpcSource::kStrainGauge, IceMode::kAdapted, kNominal, false, false, kNone, "ice_mode=adapted"},
+        Row{"ice_critical", fault("ice_detect", "rotor", "ice_accretion", "critical"), Mode::kSafeStop,
+            IpcSource::kStrainGauge, IceMode::kStop, kNominal, false, false, kNone, "ice_mode=stop"},
+        Row{"ice_shedding", fault("ice_detect", "rotor", "ice_shedding", "warning"), Mode::kNormal,
+            IpcSource::kStrainGauge, IceMode::kNormal, kNominal, false, false, kNone, "farm_alarm"}),
+    [](const ::testing::TestParamInfo<Row>& info) { return std::string(info.param.name); });
+
+TEST(Decision, BladeSensorFaultWithLidarUnavailableTurnsIpcOff) {
+  Arbiter a;
+  a.on_fault(fault("blade_load", "lidar", "sensor_invalid"), 0.0);
+  a.on_fault(fault("blade_load", "blade_moment_sensor_1", "sensor_abrupt"), 1.0);
+  EXPECT_EQ(a.evaluate(1.0).ipc_source, IpcSource::kOff);
+
+  ArbiterConfig no_lidar;
+  no_lidar.has_lidar = false;
+  Arbiter b(no_lidar);
+  b.on_fault(fault("blade_load", "blade_moment_sensor_1", "sensor_abrupt"), 1.0);
+  EXPECT_EQ(b.evaluate(1.0).ipc_source, IpcSource::kOff);
+}
+
+TEST(Decision, MostConservativeDemandWins) {
+  // GIVEN pump wear on blade 1 and a leak on blade 3 and a blade sensor fault
+  Arbiter a;
+  a.on_fault(fault("pitch_diag", "pitch_actuator_1", "pump_wear", "warning"), 0.0);
+  a.on_fault(fault("pitch_diag", "pitch_actuator_3", "hydraulic_leakage", "critical"), 0.0);
+  a.on_fault(fault("blade_load", "blade_moment_sensor_2", "sensor_drift"), 0.0);
+  const auto c = a.evaluate(0.0);
+  // THEN safe stop (leak) beats normal, blade 1 stays derated, and every cause is a reason
+  EXPECT_EQ(c.mode, Mode::kSafeStop);
+  EXPECT_EQ(c.pitch_rate_limit[0], 5.0);
+  EXPECT_EQ(c.ipc_source, IpcSource::kLidarModel);
+  EXPECT_GE(c.reasons.size(), 3u);
+}
+
+TEST(Decision, HysteresisHoldsTheActionUntilClearForTheHoldTime) {
+  ArbiterConfig cfg;
+  cfg.clear_hold = 30.0;
+  Arbiter a(cfg);
+  // t=0: fault raised -> LIDAR IPC
+  a.on_fault(fault("blade_load", "blade_moment_sensor_2", "sensor_abrupt"), 0.0);
+  EXPECT_EQ(a.evaluate(0.0).ipc_source, IpcSource::kLidarModel);
+  // t=10: cleared -> still LIDAR (clear for 0 s)
+  a.on_fault(fault("blade_load", "blade_moment_sensor_2", "sensor_abrupt", "fault", 0.0, false), 10.0);
+  EXPECT_EQ(a.evaluate(10.0).ipc_source, IpcSource::kLidarModel);
+  // t=39.9: clear for 29.9 s -> still LIDAR
+  EXPECT_EQ(a.evaluate(39.9).ipc_source, IpcSource::kLidarModel);
+  // t=40: clear for 30 s -> back to the strain gauges, no reasons left
+  const auto c = a.evaluate(40.0);
+  EXPECT_EQ(c.ipc_source, IpcSource::kStrainGauge);
+  EXPECT_TRUE(c.reasons.empty());
+}
+
+TEST(Decision, FaultReturningDuringHoldKeepsTheActionWithoutFlapping) {
+  ArbiterConfig cfg;
+  cfg.clear_hold = 30.0;
+  Arbiter a(cfg);
+  auto e = fault("blade_load", "blade_moment_sensor_1", "sensor_intermittent");
+  a.on_fault(e, 0.0);
+  e.raised = false;
+  a.on_fault(e, 5.0);
+  e.raised = true;
+  a.on_fault(e, 20.0);  // back within the hold
+  e.raised = false;
+  a.on_fault(e, 25.0);
+  // the hold restarts at the last clear (t=25): still acting at t=54, released at t=55
+  EXPECT_EQ(a.evaluate(54.0).ipc_source, IpcSource::kLidarModel);
+  EXPECT_EQ(a.evaluate(55.0).ipc_source, IpcSource::kStrainGauge);
+}
+
+TEST(Decision, CriticalFaultStaysLatchedUntilAcknowledged) {
+  ArbiterConfig cfg;
+  cfg.clear_hold = 10.0;
+  Arbiter a(cfg);
+  // t=0 leak raised -> safe stop
+  a.on_fault(fault("pitch_diag", "pitch_actuator_3", "hydraulic_leakage", "critical"), 0.0);
+  EXPECT_EQ(a.evaluate(0.0).mode, Mode::kSafeStop);
+  // t=5 cleared; t=1000 long clear -> still safe stop (latched)
+  a.on_fault(fault("pitch_diag", "pitch_actuator_3", "hydraulic_leakage", "critical", 0.0, false), 5.0);
+  EXPECT_EQ(a.evaluate(1000.0).mode, Mode::kSafeStop);
+  // an ack for another component changes nothing
+  a.on_ack("pitch_actuator_1", "none", 1000.0);
+  EXPECT_EQ(a.evaluate(1000.0).mode, Mode::kSafeStop);
+  // t=1001 ack for it -> released at once (it is already clear)
+  a.on_ack("pitch_actuator_3", "hydraulic_leakage", 1001.0);
+  EXPECT_EQ(a.evaluate(1001.0).mode, Mode::kNormal);
+}
+
+TEST(Decision, AckWhileStillRaisedDoesNotRelease) {
+  Arbiter a;
+  a.on_fault(fault("ice_detect", "rotor", "ice_accretion", "critical"), 0.0);
+  a.on_ack("rotor", "none", 1.0);
+  EXPECT_EQ(a.evaluate(2.0).ice_mode, IceMode::kStop);  // still raised: still acting
+}
+
+TEST(Decision, LostServiceFallsBackToTheConservativeSettingForItsComponents) {
+  ArbiterConfig cfg;
+  cfg.clear_hold = 20.0;
+  Arbiter a(cfg);
+  // GIVEN a corrected rotor speed in use
+  a.on_fault(fault("sensor_bias", "rotor_speed_sensor", "sensor_bias", "fault", 0.02), 0.0);
+  EXPECT_TRUE(a.evaluate(0.0).use_corrected_rotor_speed);
+  // WHEN sensor_bias's liveliness is lost
+  a.on_service_alive("sensor_bias", false, 1.0);
+  auto c = a.evaluate(1.0);
+  // THEN the corrected measurements are off and the turbine is degraded, with service_lost as reason
+  EXPECT_FALSE(c.use_corrected_rotor_speed);
+  EXPECT_EQ(c.mode, Mode::kDegraded);
+  bool lost_reason = false;
+  for (const auto& r : c.reasons) lost_reason |= r.fault == "service_lost" && r.source == "sensor_bias";
+  EXPECT_TRUE(lost_reason);
+  // WHEN it comes back THEN the conservative setting holds for clear_hold, then lifts
+  a.on_service_alive("sensor_bias", true, 5.0);
+  EXPECT_EQ(a.evaluate(24.9).mode, Mode::kDegraded);
+  EXPECT_EQ(a.evaluate(25.0).mode, Mode::kNormal);
+  EXPECT_TRUE(a.evaluate(25.0).use_corrected_rotor_speed);  // its fault is still raised
+}
+
+TEST(Decision, EachLostServiceHasItsConservativeSetting) {
+  struct Case {
+    const char* service;
+    Mode mode;
+    IpcSource ipc;
+    double rate;
+  };
+  for (const Case& k : {Case{"blade_load", Mode::kNormal, IpcSource::kOff, 10.0},
+                        Case{"pitch_diag", Mode::kDegraded, IpcSource::kStrainGauge, 5.0},
+                        Case{"ice_detect", Mode::kDegraded, IpcSource::kStrainGauge, 10.0},
+                        Case{"sensor_bias", Mode::kDegraded, IpcSource::kStrainGauge, 10.0}}) {
+    Arbiter a;
+    a.on_service_alive(k.service, false, 0.0);
+    const auto c = a.evaluate(0.0);
+    EXPECT_EQ(c.mode, k.mode) << k.service;
+    EXPECT_EQ(c.ipc_source, k.ipc) << k.service;
+    EXPECT_EQ(c.pitch_rate_limit[1], k.rate) << k.service;
+  }
+  Arbiter other;
+  other.on_service_alive("windfdi-plant", false, 0.0);  // not a diagnostic service: ignored
+  EXPECT_EQ(other.evaluate(0.0), Arbiter().evaluate(0.0));
+}
+
+TEST(Decision, UnknownComponentOrClassIsCountedAndNeverActedOn) {
+  Arbiter a;
+  EXPECT_FALSE(a.on_fault(fault("pitch_diag", "pitch_actuator_4", "pump_wear"), 0.0));
+  EXPECT_FALSE(a.on_fault(fault("pitch_diag", "pitch_actuator_1", "ice_accretion"), 0.0));
+  EXPECT_FALSE(a.on_fault(fault("blade_load", "nacelle", "sensor_abrupt"), 0.0));
+  EXPECT_FALSE(a.on_fault(fault("pitch_diag", "pitch_actuator_1", "pump_wear", "apocalyptic"), 0.0));
+  EXPECT_EQ(a.rejected_reports(), 4u);
+  EXPECT_EQ(a.evaluate(0.0), Arbiter().evaluate(0.0));
+}
+
+TEST(Decision, AdaptedIceCarriesTheInertiaEstimate) {
+  Arbiter a;
+  a.on_inertia(4.6e6);
+  a.on_fault(fault("ice_detect", "rotor", "ice_accretion", "fault"), 0.0);
+  EXPECT_DOUBLE_EQ(a.evaluate(0.0).inertia, 4.6e6);
+  EXPECT_DOUBLE_EQ(Arbiter().evaluate(0.0).inertia, 0.0);
+}
+
+TEST(Decision, ConfigLoaderRejectsBadValues) {
+  const std::string path = ::testing::TempDir() + "/arbiter.yaml";
+  {
+    std::ofstream(path) << "clear_hold: 10\nderated_pitch_rate: 20\nnominal_pitch_rate: 10\n";
+  }
+  EXPECT_THROW(load_arbiter_config(YamlSection::load_file(path)), ConfigError);
+  {
+    std::ofstream(path) << "clear_hod: 10\n";
+  }
+  EXPECT_THROW(load_arbiter_config(YamlSection::load_file(path)), ConfigError);
+  {
+    std::ofstream(path) << "clear_hold: 12\n";
+  }
+  EXPECT_DOUBLE_EQ(load_arbiter_config(YamlSection::load_file(path)).clear_hold, 12.0);
+}
+
+}  // namespace
