@@ -1,0 +1,161 @@
+// The arbiter's DDS node.
+#include "arbiter_node.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+
+#include "dds/convert.hpp"
+
+namespace windfdi::arbiter {
+
+windfdi::ControlConfiguration to_idl(const Configuration& c, const std::string& turbine_id, uint64_t revision,
+                                     const std::string& arbiter_id, double t) {
+  windfdi::ControlConfiguration out;
+  out.t(t);
+  out.turbine_id(turbine_id);
+  out.revision(revision);
+  out.arbiter_id(arbiter_id);
+  out.mode(static_cast<windfdi::OperatingMode>(static_cast<int>(c.mode)));
+  out.ipc_source(static_cast<windfdi::IpcSource>(static_cast<int>(c.ipc_source)));
+  out.use_corrected_rotor_speed(c.use_corrected_rotor_speed);
+  out.use_corrected_generator_speed(c.use_corrected_generator_speed);
+  out.use_corrected_pitch(c.use_corrected_pitch);
+  out.pitch_rate_limit(c.pitch_rate_limit);
+  out.ice_mode(static_cast<windfdi::IceMode>(static_cast<int>(c.ice_mode)));
+  out.inertia(c.inertia);
+  for (const auto& r : c.reasons) {
+    if (out.reasons().size() >= 32) break;  // IDL bound; the most important are first after sorting
+    windfdi::ConfigurationReason reason;
+    reason.source(r.source);
+    reason.component(r.component);
+    windfdi::FaultClass fc = windfdi::FAULT_NONE;
+    bus::fault_class_from_name(r.fault, fc);
+    reason.fault_class(fc);
+    reason.action(r.action);
+    out.reasons().push_back(reason);
+  }
+  return out;
+}
+
+ArbiterNode::ArbiterNode(const CommonOptions& common, const ArbiterConfig& config, const NodeOptions& options)
+    : common_(common),
+      config_(config),
+      options_(options),
+      participant_(participant_options(common, "windfdi-arbiter")),
+      faults_(participant_, common.turbines, &wakeup_),
+      health_in_(participant_, common.turbines, &wakeup_),
+      inertia_(participant_, common.turbines, &wakeup_),
+      acks_(participant_, common.turbines, &wakeup_),
+      config_out_(participant_, "control",
+                  [&](eprosima::fastdds::dds::DataWriterQos& q) { q.ownership_strength().value = options.strength; }),
+      health_(participant_, "arbiter", common.turbines) {}
+
+bool ArbiterNode::serves(const std::string& id) const {
+  return id != "*" && (common_.turbines.empty() ||
+                       std::find(common_.turbines.begin(), common_.turbines.end(), id) != common_.turbines.end());
+}
+
+ArbiterNode::Turbine& ArbiterNode::turbine(const std::string& id) {
+  auto it = turbines_.find(id);
+  if (it == turbines_.end()) {
+    it = turbines_.emplace(id, Turbine{Arbiter(config_), {}, 0, -1e300}).first;
+    spdlog::info("arbitrating turbine {}", id);
+  }
+  return it->second;
+}
+
+void ArbiterNode::handle_inputs(double now) {
+  std::vector<windfdi::FaultReport> reports;
+  faults_.take(reports);
+  for (const auto& r : reports) {
+    if (!serves(r.turbine_id())) continue;
+    health_.count_in(r.turbine_id());
+    const FaultEvent e = bus::to_event(r);
+    if (!turbine(r.turbine_id()).arbiter.on_fault(e, now)) {
+      health_.count_rejected(r.turbine_id());
+      spdlog::warn("{}: ignoring FaultReport {} / {} from {}: not a valid component and class", r.turbine_id(),
+                   e.component, e.fault, e.source);
+    }
+  }
+
+  std::vector<windfdi::ServiceHealth> health;
+  std::vector<bus::SampleMeta> meta;
+  health_in_.take(health, &meta);
+  for (std::size_t i = 0; i < health.size(); ++i) {
+    const auto& h = health[i];
+    if (h.service() == "arbiter") continue;
+    auto& known = health_writers_[meta[i].writer];
+    const bool is_new = !known.count(h.turbine_id());
+    known[h.turbine_id()] = h.service();
+    if (is_new) {
+      // A (re)appearing service is alive for the turbines it reports on ("*": every turbine).
+      for (auto& [id, t] : turbines_)
+        if (h.turbine_id() == "*" || h.turbine_id() == id) t.arbiter.on_service_alive(h.service(), true, now);
+      if (serves(h.turbine_id())) turbine(h.turbine_id()).arbiter.on_service_alive(h.service(), true, now);
+    }
+  }
+  for (const auto& ev : health_in_.take_liveliness_events()) {
+    if (ev.alive) continue;
+    auto it = health_writers_.find(ev.writer);
+    if (it == health_writers_.end()) continue;
+    for (const auto& [tid, service] : it->second) {
+      spdlog::warn("service {} for turbine {} lost its liveliness", service, tid);
+      for (auto& [id, t] : turbines_)
+        if (tid == "*" || tid == id) t.arbiter.on_service_alive(service, false, now);
+    }
+    health_writers_.erase(it);
+  }
+
+  std::vector<windfdi::InertiaEstimate> inertia;
+  inertia_.take(inertia);
+  for (const auto& est : inertia)
+    if (serves(est.turbine_id()) && std::isfinite(est.inertia()) && est.inertia() > 0)
+      turbine(est.turbine_id()).arbiter.on_inertia(est.inertia());
+
+  std::vector<windfdi::FaultAck> acks;
+  acks_.take(acks);
+  for (const auto& a : acks) {
+    if (!serves(a.turbine_id())) continue;
+    spdlog::info("{}: acknowledgement of {} on {} by {}", a.turbine_id(), bus::fault_class_name(a.fault_class()),
+                 a.component(), a.operator_name());
+    turbine(a.turbine_id()).arbiter.on_ack(a.component(), bus::fault_class_name(a.fault_class()), now);
+  }
+}
+
+void ArbiterNode::publish_configurations(double now) {
+  for (auto& [id, t] : turbines_) {
+    const Configuration c = t.arbiter.evaluate(now);
+    const bool changed = c != t.last || t.revision == 0;
+    if (!changed && now - t.last_published < options_.republish_period) continue;
+    if (changed) {
+      ++t.revision;
+      spdlog::info("{}: configuration r{}: mode {}, ipc {}, ice {}, pitch rate {}/{}/{} deg/s, {} reasons", id,
+                   t.revision, to_string(c.mode), to_string(c.ipc_source), to_string(c.ice_mode),
+                   c.pitch_rate_limit[0], c.pitch_rate_limit[1], c.pitch_rate_limit[2], c.reasons.size());
+      for (const auto& r : c.reasons)
+        spdlog::info("{}:   because {} reported {} on {}: {}", id, r.source, r.fault, r.component, r.action);
+    }
+    t.last = c;
+    t.last_published = now;
+    if (!config_out_.write(to_idl(c, id, t.revision, options_.arbiter_id, now)))
+      spdlog::error("{}: configuration not written", id);
+  }
+}
+
+void ArbiterNode::run() {
+  for (const auto& id : common_.turbines) turbine(id);
+  health_.set_state(windfdi::SERVICE_OK);
+  spdlog::info("arbiter '{}' running with ownership strength {}", options_.arbiter_id, options_.strength);
+  while (!shutdown_requested()) {
+    wakeup_.wait_for(std::chrono::milliseconds(100));
+    const double now = wall_time();
+    handle_inputs(now);
+    publish_configurations(now);
+    health_.tick(now);
+  }
+  health_.set_state(windfdi::SERVICE_STOPPING);
+  health_.tick(wall_time(), true);
+}
+
+}  // namespace windfdi::arbiter

@@ -1,0 +1,64 @@
+// The arbiter's DDS node: faults, health (liveliness), inertia estimates and acks in; one
+// ControlConfiguration per turbine out, on change and at 1 Hz, with exclusive-ownership strength.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "ControlConfiguration.h"
+#include "Estimates.h"
+#include "FaultAck.h"
+#include "FaultReport.h"
+#include "ServiceHealth.h"
+#include "app.hpp"
+#include "decision.hpp"
+#include "dds/endpoints.hpp"
+#include "health.hpp"
+
+namespace windfdi::arbiter {
+
+struct NodeOptions {
+  std::string arbiter_id = "arbiter";  ///< shown in every configuration it publishes
+  int strength = 100;                  ///< ownership strength: the highest live arbiter is followed
+  double republish_period = 1.0;       ///< s between unchanged configurations
+};
+
+windfdi::ControlConfiguration to_idl(const Configuration& c, const std::string& turbine_id, uint64_t revision,
+                                     const std::string& arbiter_id, double t);
+
+class ArbiterNode {
+ public:
+  ArbiterNode(const CommonOptions& common, const ArbiterConfig& config, const NodeOptions& options);
+  /// Runs until SIGINT/SIGTERM.
+  void run();
+
+ private:
+  struct Turbine {
+    Arbiter arbiter;
+    Configuration last;
+    uint64_t revision = 0;
+    double last_published = -1e300;
+  };
+  Turbine& turbine(const std::string& id);
+  bool serves(const std::string& id) const;
+  void handle_inputs(double now);
+  void publish_configurations(double now);
+
+  CommonOptions common_;
+  ArbiterConfig config_;
+  NodeOptions options_;
+  bus::Participant participant_;
+  bus::Wakeup wakeup_;
+  bus::Reader<windfdi::FaultReport> faults_;
+  bus::Reader<windfdi::ServiceHealth> health_in_;
+  bus::Reader<windfdi::InertiaEstimate> inertia_;
+  bus::Reader<windfdi::FaultAck> acks_;
+  bus::Writer<windfdi::ControlConfiguration> config_out_;
+  HealthReporter health_;
+  std::map<std::string, Turbine> turbines_;
+  // Which (service, turbine) each health writer speaks for, so a lost liveliness names them.
+  std::map<eprosima::fastrtps::rtps::InstanceHandle_t, std::map<std::string, std::string>> health_writers_;
+};
+
+}  // namespace windfdi::arbiter
