@@ -70,6 +70,12 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::map<
 
 ChildProcess::~ChildProcess() {
   if (pid_ > 0 && !exited_) stop(SIGTERM, std::chrono::milliseconds(3000));
+  // The logs are in the assertion messages; keep the files only when asked to.
+  if (!std::getenv("WINDFDI_KEEP_TEST_LOGS")) {
+    std::error_code ec;
+    fs::remove(out_path_, ec);
+    fs::remove(err_path_, ec);
+  }
 }
 
 bool ChildProcess::running() { return wait(std::chrono::milliseconds(0)) == -1; }

@@ -1,0 +1,227 @@
+// The farm monitor's durable event store (SQLite, WAL).
+#include "farm_store.hpp"
+
+#include <stdexcept>
+
+#include "yaml_config.hpp"
+
+namespace windfdi::farm {
+
+namespace {
+
+class Statement {
+ public:
+  Statement(sqlite3* db, const char* sql) {
+    if (sqlite3_prepare_v2(db, sql, -1, &stmt_, nullptr) != SQLITE_OK)
+      throw std::runtime_error(std::string("sqlite: ") + sqlite3_errmsg(db) + " in: " + sql);
+  }
+  ~Statement() { sqlite3_finalize(stmt_); }
+  Statement& bind(int i, double v) {
+    sqlite3_bind_double(stmt_, i, v);
+    return *this;
+  }
+  Statement& bind(int i, int64_t v) {
+    sqlite3_bind_int64(stmt_, i, v);
+    return *this;
+  }
+  Statement& bind(int i, const std::string& v) {
+    sqlite3_bind_text(stmt_, i, v.c_str(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
+    return *this;
+  }
+  int step() { return sqlite3_step(stmt_); }
+  double real(int c) const { return sqlite3_column_double(stmt_, c); }
+  int64_t integer(int c) const { return sqlite3_column_int64(stmt_, c); }
+  std::string text(int c) const {
+    const auto* p = sqlite3_column_text(stmt_, c);
+    return p ? reinterpret_cast<const char*>(p) : "";
+  }
+
+ private:
+  sqlite3_stmt* stmt_ = nullptr;
+};
+
+const char* kSchema = R"sql(
+CREATE TABLE IF NOT EXISTS fault_events (
+  id INTEGER PRIMARY KEY,
+  received_at REAL NOT NULL,
+  t REAL NOT NULL,
+  turbine_id TEXT NOT NULL,
+  source TEXT NOT NULL,
+  component TEXT NOT NULL,
+  fault TEXT NOT NULL,
+  state TEXT NOT NULL,
+  severity TEXT NOT NULL,
+  t_detected REAL,
+  statistic REAL,
+  threshold REAL,
+  size REAL,
+  detail TEXT,
+  UNIQUE (turbine_id, source, component, fault, state, t));
+CREATE TABLE IF NOT EXISTS configurations (
+  id INTEGER PRIMARY KEY,
+  received_at REAL NOT NULL,
+  t REAL NOT NULL,
+  turbine_id TEXT NOT NULL,
+  arbiter_id TEXT NOT NULL,
+  revision INTEGER NOT NULL,
+  mode TEXT NOT NULL,
+  ipc_source TEXT NOT NULL,
+  ice_mode TEXT NOT NULL,
+  reasons TEXT NOT NULL,
+  UNIQUE (turbine_id, arbiter_id, revision));
+CREATE TABLE IF NOT EXISTS health_events (
+  id INTEGER PRIMARY KEY,
+  received_at REAL NOT NULL,
+  turbine_id TEXT NOT NULL,
+  service TEXT NOT NULL,
+  event TEXT NOT NULL,
+  detail TEXT);
+CREATE INDEX IF NOT EXISTS fault_events_turbine ON fault_events (turbine_id, received_at);
+)sql";
+
+}  // namespace
+
+FarmStore::FarmStore(const std::string& path) : path_(path) {
+  if (sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
+                      nullptr) != SQLITE_OK) {
+    const std::string msg = db_ ? sqlite3_errmsg(db_) : "out of memory";
+    sqlite3_close(db_);
+    db_ = nullptr;
+    throw ConfigError(path, 0, "", "cannot open database: " + msg);
+  }
+  sqlite3_busy_timeout(db_, 5000);
+  // WAL with synchronous=FULL: a committed event survives kill -9 of this process (and power loss).
+  exec("PRAGMA journal_mode=WAL;");
+  exec("PRAGMA synchronous=FULL;");
+  exec(kSchema);
+}
+
+FarmStore::~FarmStore() {
+  if (db_) sqlite3_close(db_);
+}
+
+void FarmStore::exec(const char* sql) {
+  char* err = nullptr;
+  if (sqlite3_exec(db_, sql, nullptr, nullptr, &err) != SQLITE_OK) {
+    const std::string msg = err ? err : "?";
+    sqlite3_free(err);
+    throw ConfigError(path_, 0, "", "sqlite: " + msg);
+  }
+}
+
+bool FarmStore::add_fault(const FaultEvent& e, double received_at) {
+  Statement s(db_,
+              "INSERT OR IGNORE INTO fault_events (received_at, t, turbine_id, source, component, fault, state, "
+              "severity, t_detected, statistic, threshold, size, detail) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?)");
+  s.bind(1, received_at).bind(2, e.t).bind(3, e.turbine_id).bind(4, e.source).bind(5, e.component);
+  s.bind(6, e.fault).bind(7, std::string(e.raised ? "raised" : "cleared")).bind(8, e.severity);
+  s.bind(9, e.t_detected).bind(10, e.statistic).bind(11, e.threshold).bind(12, e.size).bind(13, e.detail);
+  if (s.step() != SQLITE_DONE) throw std::runtime_error(std::string("sqlite insert: ") + sqlite3_errmsg(db_));
+  return sqlite3_changes(db_) > 0;
+}
+
+bool FarmStore::add_config(const ConfigRecord& c) {
+  Statement s(db_,
+              "INSERT OR IGNORE INTO configurations (received_at, t, turbine_id, arbiter_id, revision, mode, "
+              "ipc_source, ice_mode, reasons) VALUES (?,?,?,?,?,?,?,?,?)");
+  s.bind(1, c.received_at).bind(2, c.t).bind(3, c.turbine_id).bind(4, c.arbiter_id);
+  s.bind(5, static_cast<int64_t>(c.revision)).bind(6, c.mode).bind(7, c.ipc_source).bind(8, c.ice_mode);
+  s.bind(9, nlohmann::json(c.reasons).dump());
+  if (s.step() != SQLITE_DONE) throw std::runtime_error(std::string("sqlite insert: ") + sqlite3_errmsg(db_));
+  return sqlite3_changes(db_) > 0;
+}
+
+bool FarmStore::add_health(const HealthRecord& h) {
+  Statement s(db_, "INSERT INTO health_events (received_at, turbine_id, service, event, detail) VALUES (?,?,?,?,?)");
+  s.bind(1, h.received_at).bind(2, h.turbine_id).bind(3, h.service).bind(4, h.event).bind(5, h.detail);
+  if (s.step() != SQLITE_DONE) throw std::runtime_error(std::string("sqlite insert: ") + sqlite3_errmsg(db_));
+  return true;
+}
+
+std::vector<HistoryRow> FarmStore::history(const std::string& turbine, double since) const {
+  std::vector<HistoryRow> rows;
+  const bool all = turbine.empty();
+  {
+    Statement s(db_,
+                "SELECT received_at, t, turbine_id, source, component, fault, state, severity, t_detected, "
+                "statistic, threshold, size, detail FROM fault_events WHERE received_at >= ? AND (? OR "
+                "turbine_id = ?) ORDER BY received_at, id");
+    s.bind(1, since).bind(2, static_cast<int64_t>(all)).bind(3, turbine);
+    while (s.step() == SQLITE_ROW) {
+      FaultEvent e;
+      e.t = s.real(1);
+      e.turbine_id = s.text(2);
+      e.source = s.text(3);
+      e.component = s.text(4);
+      e.fault = s.text(5);
+      e.raised = s.text(6) == "raised";
+      e.severity = s.text(7);
+      e.t_detected = s.real(8);
+      e.statistic = s.real(9);
+      e.threshold = s.real(10);
+      e.size = s.real(11);
+      e.detail = s.text(12);
+      rows.push_back({s.real(0), "fault", e.turbine_id, to_json(e)});
+    }
+  }
+  {
+    Statement s(db_,
+                "SELECT received_at, t, turbine_id, arbiter_id, revision, mode, ipc_source, ice_mode, reasons FROM "
+                "configurations WHERE received_at >= ? AND (? OR turbine_id = ?) ORDER BY received_at, id");
+    s.bind(1, since).bind(2, static_cast<int64_t>(all)).bind(3, turbine);
+    while (s.step() == SQLITE_ROW)
+      rows.push_back({s.real(0), "config", s.text(2),
+                      nlohmann::json{{"t", s.real(1)},
+                                     {"turbine_id", s.text(2)},
+                                     {"arbiter_id", s.text(3)},
+                                     {"revision", s.integer(4)},
+                                     {"mode", s.text(5)},
+                                     {"ipc_source", s.text(6)},
+                                     {"ice_mode", s.text(7)},
+                                     {"reasons", nlohmann::json::parse(s.text(8))}}});
+  }
+  {
+    Statement s(db_,
+                "SELECT received_at, turbine_id, service, event, detail FROM health_events WHERE received_at >= ? "
+                "AND (? OR turbine_id = ?) ORDER BY received_at, id");
+    s.bind(1, since).bind(2, static_cast<int64_t>(all)).bind(3, turbine);
+    while (s.step() == SQLITE_ROW)
+      rows.push_back({s.real(0), "health", s.text(1),
+                      nlohmann::json{{"turbine_id", s.text(1)}, {"service", s.text(2)}, {"event", s.text(3)},
+                                     {"detail", s.text(4)}}});
+  }
+  std::stable_sort(rows.begin(), rows.end(),
+                   [](const HistoryRow& a, const HistoryRow& b) { return a.received_at < b.received_at; });
+  return rows;
+}
+
+std::vector<FaultEvent> FarmStore::latest_faults() const {
+  std::vector<FaultEvent> out;
+  Statement s(db_,
+              "SELECT turbine_id, source, component, fault, state, severity, t, size, detail FROM fault_events f "
+              "WHERE id = (SELECT MAX(id) FROM fault_events g WHERE g.turbine_id = f.turbine_id AND g.source = "
+              "f.source AND g.component = f.component AND g.fault = f.fault) ORDER BY turbine_id, component");
+  while (s.step() == SQLITE_ROW) {
+    FaultEvent e;
+    e.turbine_id = s.text(0);
+    e.source = s.text(1);
+    e.component = s.text(2);
+    e.fault = s.text(3);
+    e.raised = s.text(4) == "raised";
+    e.severity = s.text(5);
+    e.t = s.real(6);
+    e.size = s.real(7);
+    e.detail = s.text(8);
+    out.push_back(e);
+  }
+  return out;
+}
+
+int64_t FarmStore::count(const std::string& table) const {
+  if (table != "fault_events" && table != "configurations" && table != "health_events")
+    throw std::invalid_argument("no table " + table);
+  Statement s(db_, ("SELECT COUNT(*) FROM " + table).c_str());
+  return s.step() == SQLITE_ROW ? s.integer(0) : 0;
+}
+
+}  // namespace windfdi::farm

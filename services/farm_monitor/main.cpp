@@ -1,0 +1,43 @@
+// windfdi-farm: the farm monitor (live table, SQLite history, operator acknowledgements).
+#include <cstdlib>
+
+#include "app.hpp"
+#include "farm_node.hpp"
+
+int main(int argc, char** argv) {
+  using namespace windfdi;
+  CLI::App app{"Farm monitor: follows every turbine's faults, stores them, acknowledges them", "windfdi-farm"};
+  CommonOptions common;
+  add_common_options(app, common);
+  farm::FarmOptions options;
+  if (const char* db = std::getenv("WINDFDI_FARM_DB"); db && *db) options.db = db;
+  app.add_option("--db", options.db, "SQLite database (default $WINDFDI_FARM_DB or ./windfdi-farm.sqlite)")
+      ->capture_default_str();
+  app.add_option("--table-period", options.table_period, "seconds between live tables (0: none)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 3600.0));
+
+  auto* history = app.add_subcommand("history", "print the stored events");
+  std::string turbine;
+  double since = 0.0;
+  bool json = false;
+  history->add_option("--turbine", turbine, "only this turbine");
+  history->add_option("--since", since, "only events received at or after this Unix time (s)");
+  history->add_flag("--json", json, "JSON Lines instead of a table");
+
+  auto* ack = app.add_subcommand("ack", "acknowledge a latched fault (publishes a FaultAck)");
+  std::string ack_turbine, component, fault = "none", operator_name = "operator";
+  double timeout = 5.0;
+  ack->add_option("TURBINE", ack_turbine, "turbine id")->required();
+  ack->add_option("COMPONENT", component, "component, e.g. pitch_actuator_3")->required();
+  ack->add_option("--fault", fault, "fault class (default: every class on the component)")->capture_default_str();
+  ack->add_option("--operator", operator_name, "who acknowledges")->capture_default_str();
+  ack->add_option("--timeout", timeout, "seconds to wait for an arbiter")->capture_default_str();
+
+  return run_main(app, argc, argv, common, [&] {
+    if (*history) return farm::print_history(options.db, turbine, since, json);
+    if (*ack) return farm::publish_ack(common, ack_turbine, component, fault, operator_name, timeout);
+    farm::FarmNode(common, options).run();
+    return kExitOk;
+  });
+}

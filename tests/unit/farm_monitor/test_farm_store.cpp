@@ -1,0 +1,102 @@
+// Unit tests of the farm monitor's SQLite store and live table.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "farm_state.hpp"
+#include "farm_store.hpp"
+#include "process.hpp"
+#include "yaml_config.hpp"
+
+using namespace windfdi;
+using namespace windfdi::farm;
+
+namespace {
+
+FaultEvent fault(const std::string& turbine, const std::string& component, const std::string& cls, double t,
+                 bool raised = true) {
+  FaultEvent e;
+  e.t = t;
+  e.turbine_id = turbine;
+  e.source = "pitch_diag";
+  e.component = component;
+  e.fault = cls;
+  e.raised = raised;
+  e.severity = "critical";
+  return e;
+}
+
+TEST(FarmStore, ReplayedEventsAreStoredOnce) {
+  const std::string db = test::temp_dir("farm1") + "/farm.sqlite";
+  FarmStore s(db);
+  // GIVEN a raised fault stored once
+  EXPECT_TRUE(s.add_fault(fault("WT01", "pitch_actuator_3", "hydraulic_leakage", 12.0), 1000.0));
+  // WHEN the same report arrives again (transient-local replay after a restart)
+  EXPECT_FALSE(s.add_fault(fault("WT01", "pitch_actuator_3", "hydraulic_leakage", 12.0), 1005.0));
+  // THEN it is not stored twice, while its clear is a new event
+  EXPECT_TRUE(s.add_fault(fault("WT01", "pitch_actuator_3", "hydraulic_leakage", 20.0, false), 1010.0));
+  EXPECT_EQ(s.count("fault_events"), 2);
+  ConfigRecord c{1001.0, 12.1, "WT01", "primary", 3, "safe_stop", "strain_gauge", "normal", {"a/b/c: d"}};
+  EXPECT_TRUE(s.add_config(c));
+  EXPECT_FALSE(s.add_config(c));
+}
+
+TEST(FarmStore, HistoryFiltersByTurbineAndTime) {
+  const std::string db = test::temp_dir("farm2") + "/farm.sqlite";
+  FarmStore s(db);
+  s.add_fault(fault("WT01", "pitch_actuator_1", "pump_wear", 1.0), 100.0);
+  s.add_fault(fault("WT02", "pitch_actuator_2", "pump_wear", 1.0), 200.0);
+  s.add_health({150.0, "WT01", "pitch_diag", "lost", "liveliness lost"});
+  EXPECT_EQ(s.history("", 0.0).size(), 3u);
+  const auto wt1 = s.history("WT01", 0.0);
+  ASSERT_EQ(wt1.size(), 2u);
+  EXPECT_EQ(wt1[0].kind, "fault");
+  EXPECT_EQ(wt1[1].kind, "health");  // ordered by reception
+  EXPECT_EQ(s.history("", 150.0).size(), 2u);
+  EXPECT_EQ(s.history("WT03", 0.0).size(), 0u);
+}
+
+TEST(FarmStore, CommittedEventsSurviveKillMinus9) {
+  // GIVEN a child process that stores an event and is then killed with SIGKILL before closing
+  const std::string db = test::temp_dir("farm3") + "/farm.sqlite";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    FarmStore s(db);
+    s.add_fault(fault("WT07", "rotor", "ice_accretion", 5.0), 50.0);
+    kill(getpid(), SIGKILL);
+    _exit(0);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status));
+  // WHEN the database is reopened THEN the event is there, and the picture rebuilt from it says so
+  FarmStore s(db);
+  const auto latest = s.latest_faults();
+  ASSERT_EQ(latest.size(), 1u);
+  EXPECT_EQ(latest[0].turbine_id, "WT07");
+  EXPECT_TRUE(latest[0].raised);
+}
+
+TEST(FarmStore, UnopenableDatabaseIsAConfigError) {
+  EXPECT_THROW(FarmStore("/nonexistent/dir/farm.sqlite"), ConfigError);
+}
+
+TEST(FarmState, TableShowsModesFaultsAndLostServices) {
+  FarmState st;
+  st.on_config({0, 0, "WT02", "primary", 4, "safe_stop", "lidar_model", "normal", {}});
+  st.on_fault(fault("WT02", "pitch_actuator_3", "hydraulic_leakage", 1.0));
+  st.on_fault(fault("WT01", "pitch_actuator_1", "pump_wear", 1.0));
+  st.on_fault(fault("WT01", "pitch_actuator_1", "pump_wear", 9.0, false));  // cleared
+  st.on_service("WT01", "ice_detect", "ok");
+  st.on_service_lost("WT01", "ice_detect");
+  EXPECT_EQ(st.active_faults("WT01"), (std::vector<std::string>{"ice_detect service_lost"}));
+  EXPECT_EQ(st.active_faults("WT02"), (std::vector<std::string>{"pitch_actuator_3 hydraulic_leakage (critical)"}));
+  const std::string table = st.render();
+  EXPECT_NE(table.find("safe_stop"), std::string::npos) << table;
+  EXPECT_NE(table.find("lidar_model"), std::string::npos) << table;
+  EXPECT_NE(table.find("ice_detect:lost"), std::string::npos) << table;
+}
+
+}  // namespace
