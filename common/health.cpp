@@ -33,6 +33,7 @@ uint64_t HealthReporter::total_rejected() const {
 }
 
 void HealthReporter::tick(double wall_now, bool force) {
+  writer_.assert_liveliness();
   if (!force && wall_now - last_report_ < 1.0) return;
   last_report_ = wall_now;
   for (const auto& [turbine, c] : counters_) {

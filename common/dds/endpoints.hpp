@@ -98,6 +98,9 @@ class Writer : private eprosima::fastdds::dds::DataWriterListener {
            ReturnCode_t::RETCODE_OK;
   }
 
+  /// Asserts liveliness (MANUAL_BY_TOPIC writers): a node's loop calls it so a hung loop looks dead.
+  void assert_liveliness() { writer_->assert_liveliness(); }
+
   int matched() const { return status_.matched.load(); }
   const EndpointStatus& status() const { return status_; }
   uint64_t write_failures() const { return write_failures_; }

@@ -152,6 +152,7 @@ void ArbiterNode::run() {
     const double now = wall_time();
     handle_inputs(now);
     publish_configurations(now);
+    config_out_.assert_liveliness();
     health_.tick(now);
   }
   health_.set_state(windfdi::SERVICE_STOPPING);

@@ -2,12 +2,16 @@
 #include <spdlog/spdlog.h>
 
 #include <map>
+#include <sstream>
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "ControlConfiguration.h"
 #include "app.hpp"
+#include "yaml_config.hpp"
 #include "dds/convert.hpp"
 #include "dds/endpoints.hpp"
+#include "health.hpp"
 
 using namespace windfdi;
 
@@ -74,6 +78,68 @@ int listen(const CommonOptions& common, uint64_t expect, double timeout) {
   return (shutdown_requested() || total >= expect) ? 0 : 1;
 }
 
+// A synthetic diagnostic service: health (liveliness) for one turbine and scripted FaultReports.
+int fault(const CommonOptions& common, const std::string& turbine, const std::string& source,
+          const std::vector<std::string>& script, double hold) {
+  bus::Participant participant(participant_options(common, "windfdi-test-peer-" + source));
+  bus::Writer<windfdi::FaultReport> writer(participant);
+  HealthReporter health(participant, source, {turbine});
+  health.set_state(windfdi::SERVICE_OK);
+  const double start = wall_time();
+  // Script entries: "AT:component:class:severity:raised|cleared" (AT in s from start).
+  std::vector<bool> done(script.size(), false);
+  std::cout << "{\"ready\":true}" << std::endl;
+  while (!shutdown_requested() && wall_time() - start < hold) {
+    const double now = wall_time();
+    for (std::size_t i = 0; i < script.size(); ++i) {
+      if (done[i]) continue;
+      std::vector<std::string> f;
+      std::stringstream ss(script[i]);
+      for (std::string part; std::getline(ss, part, ':');) f.push_back(part);
+      if (f.size() != 5) throw ConfigError("--script", 0, script[i], "want AT:component:class:severity:state");
+      if (now - start < std::stod(f[0])) continue;
+      FaultEvent e;
+      e.t = now - start;
+      e.t_detected = e.t;
+      e.turbine_id = turbine;
+      e.source = source;
+      e.component = f[1];
+      e.fault = f[2];
+      e.severity = f[3];
+      e.raised = f[4] == "raised";
+      writer.write(bus::to_idl(e));
+      done[i] = true;
+      std::cout << nlohmann::json{{"sent", script[i]}, {"at", now}}.dump() << std::endl;
+    }
+    health.tick(now);
+    sleep_unless_shutdown(std::chrono::milliseconds(50));
+  }
+  return 0;
+}
+
+// Prints every ControlConfiguration received as a JSON line (stands in for a plant in arbiter tests).
+int configs(const CommonOptions& common, double timeout) {
+  bus::Participant participant(participant_options(common, "windfdi-test-peer-configs"));
+  bus::Wakeup wakeup;
+  bus::Reader<windfdi::ControlConfiguration> reader(participant, common.turbines, &wakeup);
+  std::cout << "{\"ready\":true}" << std::endl;
+  const double start = wall_time();
+  std::vector<windfdi::ControlConfiguration> got;
+  while (!shutdown_requested() && wall_time() - start < timeout) {
+    wakeup.wait_for(std::chrono::milliseconds(100));
+    got.clear();
+    reader.take(got);
+    for (const auto& c : got)
+      std::cout << nlohmann::json{{"received_at", wall_time()}, {"turbine_id", c.turbine_id()},
+                                  {"arbiter_id", c.arbiter_id()}, {"revision", c.revision()},
+                                  {"mode", static_cast<int>(c.mode())}, {"ipc_source", static_cast<int>(c.ipc_source())},
+                                  {"reasons", c.reasons().size()}}
+                       .dump()
+                << std::endl;
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -85,7 +151,15 @@ int main(int argc, char** argv) {
   int blocks = 100, block_size = 10, readers = 1;
   double rate = 100.0, timeout = 30.0;
   uint64_t expect = 0;
-  app.add_option("mode", mode, "publish or listen")->check(CLI::IsMember({"publish", "listen"}));
+  app.add_option("mode", mode, "publish, listen, fault or configs")
+      ->check(CLI::IsMember({"publish", "listen", "fault", "configs"}));
+  std::string turbine = "WT01", source = "pitch_diag";
+  std::vector<std::string> script;
+  double hold = 30.0;
+  app.add_option("--turbine-id", turbine, "fault mode: turbine of the reports");
+  app.add_option("--source", source, "fault mode: service name to report as");
+  app.add_option("--script", script, "fault mode: AT:component:class:severity:raised|cleared (repeatable)");
+  app.add_option("--hold", hold, "fault mode: seconds to stay alive");
   app.add_option("--ids", ids, "turbine ids to publish")->delimiter(',');
   app.add_option("--blocks", blocks, "blocks per turbine");
   app.add_option("--block", block_size, "samples per block (1..32)")->check(CLI::Range(1, 32));
@@ -94,6 +168,9 @@ int main(int argc, char** argv) {
   app.add_option("--expect", expect, "samples to receive before exiting");
   app.add_option("--timeout", timeout, "seconds before giving up");
   return run_main(app, argc, argv, common, [&] {
-    return mode == "publish" ? publish(common, ids, blocks, block_size, readers, rate) : listen(common, expect, timeout);
+    if (mode == "publish") return publish(common, ids, blocks, block_size, readers, rate);
+    if (mode == "fault") return fault(common, turbine, source, script, hold);
+    if (mode == "configs") return configs(common, timeout);
+    return listen(common, expect, timeout);
   });
 }

@@ -1,0 +1,196 @@
+// Multi-process tests of the arbiter and the farm monitor with synthetic FaultReports: latching and
+// acknowledgement end to end, service_lost, farm restart after kill -9, redundant arbiters.
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "process.hpp"
+
+using namespace windfdi::test;
+using nlohmann::json;
+
+namespace {
+
+std::vector<json> json_lines(const std::string& text) {
+  std::vector<json> out;
+  std::stringstream ss(text);
+  for (std::string line; std::getline(ss, line);) {
+    if (line.empty() || line[0] != '{') continue;
+    try {
+      out.push_back(json::parse(line));
+    } catch (...) {
+    }
+  }
+  return out;
+}
+
+bool wait_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout) {
+  const auto end = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < end) {
+    if (pred()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return pred();
+}
+
+bool ready(ChildProcess& p) {
+  return wait_until([&] { return p.stdout_text().find("\"ready\"") != std::string::npos || !p.running(); },
+                    std::chrono::seconds(20)) &&
+         p.running();
+}
+
+// The configurations a `configs` peer has printed, optionally only those from one arbiter.
+std::vector<json> configs(ChildProcess& p, const std::string& arbiter = "") {
+  std::vector<json> out;
+  for (const auto& j : json_lines(p.stdout_text()))
+    if (j.contains("revision") && (arbiter.empty() || j["arbiter_id"] == arbiter)) out.push_back(j);
+  return out;
+}
+
+std::vector<json> farm_history(const std::string& db, const std::map<std::string, std::string>& env) {
+  ChildProcess h({bin("windfdi-farm"), "--db", db, "history", "--json"}, env, "history");
+  EXPECT_EQ(h.wait(std::chrono::seconds(20)), 0) << h.stderr_text();
+  return json_lines(h.stdout_text());
+}
+
+class ArbiterFarm : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = temp_dir("arbiter_farm_" + std::to_string(domain));
+    std::ofstream(dir + "/arbiter.yaml") << "clear_hold: 2.0\n";
+  }
+  void TearDown() override { remove_stale_shm(domain); }
+  int domain = private_domain(2);
+  std::map<std::string, std::string> env = dds_env(domain);
+  std::string dir;
+};
+
+TEST_F(ArbiterFarm, CriticalFaultSafeStopsLatchesUntilAckAndFarmLosesNothingOnRestart) {
+  const std::string db = dir + "/farm.sqlite";
+  auto farm = std::make_unique<ChildProcess>(
+      std::vector<std::string>{bin("windfdi-farm"), "--db", db, "--table-period", "0"}, env, "farm");
+  ChildProcess arbiter({bin("windfdi-arbiter"), "--config", dir + "/arbiter.yaml", "--arbiter-id", "primary"}, env,
+                       "arbiter");
+  ChildProcess plant({bin("windfdi-test-peer"), "configs", "--timeout", "120"}, env, "configs");
+  ASSERT_TRUE(ready(plant)) << plant.stderr_text();
+  // GIVEN pitch_diag reporting a critical leak on blade 3 at 2 s and clearing it at 4 s
+  ChildProcess service({bin("windfdi-test-peer"), "fault", "--source", "pitch_diag", "--turbine-id", "WT01",
+                        "--script", "2:pitch_actuator_3:hydraulic_leakage:critical:raised", "--script",
+                        "4:pitch_actuator_3:hydraulic_leakage:critical:cleared", "--hold", "120"},
+                       env, "pitch_diag");
+  ASSERT_TRUE(ready(service)) << service.stderr_text();
+
+  // THEN the plant receives safe stop (mode 2) from the arbiter
+  ASSERT_TRUE(wait_until(
+      [&] {
+        for (const auto& c : configs(plant))
+          if (c["mode"] == 2) return true;
+        return false;
+      },
+      std::chrono::seconds(30)))
+      << plant.stdout_text() << arbiter.stderr_text();
+  // AND it stays in safe stop long after the clear (latched; clear_hold is only 2 s)
+  std::this_thread::sleep_for(std::chrono::seconds(6));
+  ASSERT_EQ(configs(plant).back()["mode"], 2) << plant.stdout_text();
+
+  // WHEN the farm monitor is killed with SIGKILL and restarted on the same database
+  ASSERT_TRUE(wait_until([&] { return farm_history(db, env).size() >= 3; }, std::chrono::seconds(20)));
+  const auto before = farm_history(db, env);
+  farm->stop(SIGKILL);
+  farm = std::make_unique<ChildProcess>(
+      std::vector<std::string>{bin("windfdi-farm"), "--db", db, "--table-period", "0"}, env, "farm2");
+  std::this_thread::sleep_for(std::chrono::seconds(4));  // transient-local replay arrives again
+  // AND an operator acknowledges the leak
+  ChildProcess ack({bin("windfdi-farm"), "ack", "WT01", "pitch_actuator_3", "--operator", "test"}, env, "ack");
+  ASSERT_EQ(ack.wait(std::chrono::seconds(30)), 0) << ack.stderr_text();
+
+  // THEN the plant is released to normal (mode 0)
+  ASSERT_TRUE(wait_until([&] { return configs(plant).back()["mode"] == 0; }, std::chrono::seconds(20)))
+      << plant.stdout_text();
+  // AND the farm history holds the raise and the clear exactly once each, and every event from before
+  ASSERT_TRUE(wait_until([&] { return farm_history(db, env).size() > before.size(); }, std::chrono::seconds(20)));
+  const auto after = farm_history(db, env);
+  int raised = 0, cleared = 0;
+  for (const auto& row : after) {
+    if (row["kind"] != "fault") continue;
+    raised += row["data"]["state"] == "raised";
+    cleared += row["data"]["state"] == "cleared";
+  }
+  EXPECT_EQ(raised, 1);
+  EXPECT_EQ(cleared, 1);
+  for (std::size_t i = 0; i < before.size(); ++i) EXPECT_EQ(after[i], before[i]) << i;
+  bool safe_stop_config = false, normal_after = false;
+  for (const auto& row : after) {
+    if (row["kind"] != "config") continue;
+    if (row["data"]["mode"] == "safe_stop") safe_stop_config = true;
+    if (safe_stop_config && row["data"]["mode"] == "normal") normal_after = true;
+  }
+  EXPECT_TRUE(safe_stop_config);
+  EXPECT_TRUE(normal_after);
+}
+
+TEST_F(ArbiterFarm, KilledServiceBecomesServiceLostAndConservativeSetting) {
+  const std::string db = dir + "/farm.sqlite";
+  ChildProcess farm({bin("windfdi-farm"), "--db", db, "--table-period", "0"}, env, "farm");
+  ChildProcess arbiter({bin("windfdi-arbiter"), "--config", dir + "/arbiter.yaml"}, env, "arbiter");
+  ChildProcess plant({bin("windfdi-test-peer"), "configs", "--timeout", "120"}, env, "configs");
+  ASSERT_TRUE(ready(plant));
+  // GIVEN a live sensor_bias service for WT01
+  ChildProcess service({bin("windfdi-test-peer"), "fault", "--source", "sensor_bias", "--turbine-id", "WT01",
+                        "--hold", "120"},
+                       env, "sensor_bias");
+  ASSERT_TRUE(ready(service));
+  ASSERT_TRUE(wait_until([&] { return !configs(plant).empty(); }, std::chrono::seconds(20)));
+  EXPECT_EQ(configs(plant).back()["mode"], 0);
+  // WHEN it is killed without a goodbye
+  service.stop(SIGKILL);
+  const auto killed = std::chrono::steady_clock::now();
+  // THEN within the liveliness lease (3 s) plus margin the turbine is degraded (mode 1)
+  ASSERT_TRUE(wait_until([&] { return configs(plant).back()["mode"] == 1; }, std::chrono::seconds(15)))
+      << plant.stdout_text() << arbiter.stderr_text();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - killed).count();
+  EXPECT_LT(seconds, 8.0);
+  std::cout << "[ measured ] service_lost -> degraded configuration at the plant after " << seconds << " s\n";
+  // AND the farm recorded the loss
+  ASSERT_TRUE(wait_until(
+      [&] {
+        for (const auto& row : farm_history(db, env))
+          if (row["kind"] == "health" && row["data"]["event"] == "lost" && row["data"]["service"] == "sensor_bias")
+            return true;
+        return false;
+      },
+      std::chrono::seconds(15)));
+}
+
+TEST_F(ArbiterFarm, StandbyArbiterTakesOverWhenThePrimaryDies) {
+  ChildProcess plant({bin("windfdi-test-peer"), "configs", "--timeout", "120"}, env, "configs");
+  ASSERT_TRUE(ready(plant));
+  ChildProcess primary({bin("windfdi-arbiter"), "--arbiter-id", "primary", "--strength", "100", "--turbine", "WT01"},
+                       env, "primary");
+  ChildProcess standby({bin("windfdi-arbiter"), "--arbiter-id", "standby", "--strength", "50", "--turbine", "WT01"},
+                       env, "standby");
+  // GIVEN both arbiters running and matched for a few seconds
+  ASSERT_TRUE(wait_until([&] { return configs(plant, "primary").size() >= 3; }, std::chrono::seconds(30)))
+      << plant.stdout_text();
+  const std::size_t settled = configs(plant).size();
+  std::this_thread::sleep_for(std::chrono::seconds(3));
+  // THEN the plant follows the primary alone: no configuration of the standby once both are known
+  const auto steady = configs(plant);
+  for (std::size_t i = settled; i < steady.size(); ++i) EXPECT_EQ(steady[i]["arbiter_id"], "primary") << i;
+  // WHEN the primary is killed
+  primary.stop(SIGKILL);
+  const auto killed = std::chrono::steady_clock::now();
+  // THEN the standby's configurations reach the plant within the lease (2 s) plus the 1 s republish period
+  ASSERT_TRUE(wait_until([&] { return configs(plant).back()["arbiter_id"] == "standby"; }, std::chrono::seconds(15)))
+      << plant.stdout_text();
+  const double takeover = std::chrono::duration<double>(std::chrono::steady_clock::now() - killed).count();
+  EXPECT_LT(takeover, 4.0);
+  std::cout << "[ measured ] standby arbiter's configuration at the plant " << takeover << " s after the kill\n";
+}
+
+}  // namespace
