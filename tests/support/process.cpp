@@ -138,10 +138,25 @@ std::map<std::string, std::string> dds_env(int domain) {
 
 std::string bin(const std::string& name) { return std::string(WINDFDI_BIN_DIR) + "/" + name; }
 
+namespace {
+// Temp dirs of this test process, removed when it exits (kept with WINDFDI_KEEP_TEST_LOGS).
+std::vector<fs::path>& temp_dirs() {
+  static std::vector<fs::path> dirs;
+  return dirs;
+}
+void remove_temp_dirs() {
+  if (std::getenv("WINDFDI_KEEP_TEST_LOGS")) return;
+  std::error_code ec;
+  for (const auto& d : temp_dirs()) fs::remove_all(d, ec);
+}
+}  // namespace
+
 std::string temp_dir(const std::string& name) {
   const fs::path p = fs::temp_directory_path() / ("windfdi-test-" + std::to_string(getpid()) + "-" + name);
   fs::remove_all(p);
   fs::create_directories(p);
+  if (temp_dirs().empty()) std::atexit(remove_temp_dirs);
+  temp_dirs().push_back(p);
   return p.string();
 }
 
