@@ -1,0 +1,126 @@
+// The shared main of every diagnostic service.
+#include "diagnostic_service.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <map>
+
+#include "app.hpp"
+#include "replay.hpp"
+#include "service_node.hpp"
+
+namespace windfdi {
+
+namespace {
+
+int run_replay_mode(const ServiceSpec& spec, const ReplayOptions& options) {
+  std::map<std::string, std::unique_ptr<TurbineDiagnoser>> turbines;
+  std::vector<FaultEvent> events;
+  std::vector<std::string> values;
+  const auto stats = run_replay(options, spec.estimate_columns,
+                                [&](const std::string& id, const FrameSample& s, bool gap, ReplaySink& sink) {
+                                  auto& d = turbines[id];
+                                  if (!d) d = spec.make(id);
+                                  events.clear();
+                                  const bool ok = d->update(s, gap, events);
+                                  for (auto& e : events) {
+                                    e.turbine_id = id;
+                                    e.source = spec.name;
+                                    sink.event(e);
+                                  }
+                                  values.clear();
+                                  if (d->estimate_due(values)) sink.estimate(s.t, id, values);
+                                  return ok;
+                                });
+  spdlog::info("replay of {}: {} samples, {} rejected, {} lost (sequence gaps), {} estimates, {} events",
+               options.frames, stats.samples, stats.rejected, stats.sequence_gaps, stats.estimates, stats.events);
+  return kExitOk;
+}
+
+// The newest LIDAR frame of a turbine, merged into its frame samples while it is fresh.
+struct LidarState {
+  double v_upper = kNaN, v_lower = kNaN, t = -1e300;
+  bool valid = false;
+};
+constexpr double kLidarStale = 1.0;  // s of sample time without a LIDAR frame before it counts as lost
+
+int run_node(const ServiceSpec& spec, const CommonOptions& common) {
+  DiagnosticNode node(common, spec.name);
+  std::map<std::string, std::unique_ptr<TurbineDiagnoser>> turbines;
+  std::map<std::string, LidarState> lidar;
+  if (spec.wants_lidar)
+    node.subscribe_lidar([&](const std::string& id, const windfdi::LidarFrame& f) {
+      auto& l = lidar[id];
+      l.v_upper = f.v_upper();
+      l.v_lower = f.v_lower();
+      l.t = f.t();
+      l.valid = (f.valid_mask() & 3u) == 3u;
+    });
+  const EstimatePublisher publish = spec.make_publisher ? spec.make_publisher(node.participant()) : nullptr;
+  std::vector<FaultEvent> events;
+  std::vector<std::string> values;
+  spdlog::info("{} running{}", spec.name, common.turbines.empty() ? " for every turbine" : "");
+  node.run([&](const std::string& id, const FrameSample& sample, bool gap) {
+    auto& d = turbines[id];
+    if (!d) {
+      d = spec.make(id);
+      spdlog::info("{}: diagnosing turbine {}", spec.name, id);
+    }
+    FrameSample s = sample;
+    if (spec.wants_lidar) {
+      const auto it = lidar.find(id);
+      if (it != lidar.end() && it->second.valid && s.t - it->second.t < kLidarStale) {
+        s.lidar_v_upper = it->second.v_upper;
+        s.lidar_v_lower = it->second.v_lower;
+      } else {
+        s.lidar_v_upper = s.lidar_v_lower = kNaN;
+        s.valid_mask &= ~kValidLidar;
+      }
+    }
+    events.clear();
+    const bool ok = d->update(s, gap, events);
+    for (auto& e : events) {
+      e.turbine_id = id;
+      e.source = spec.name;
+      node.publish(e);
+    }
+    values.clear();
+    if (d->estimate_due(values) && publish) publish(id, s.t, *d);
+    return ok;
+  });
+  return kExitOk;
+}
+
+}  // namespace
+
+int run_diagnostic_service(int argc, char** argv, const ServiceSpec& spec) {
+  const std::string exe = "windfdi-" + [&] {
+    std::string n = spec.name;
+    for (auto& c : n)
+      if (c == '_') c = '-';
+    return n;
+  }();
+  CLI::App app{spec.description, exe};
+  CommonOptions common;
+  add_common_options(app, common);
+  std::string config_file;
+  ReplayOptions replay;
+  app.add_option("--config", config_file, "service YAML (default: built-in defaults; see deploy/config/)");
+  app.add_option("--replay", replay.frames, "run offline on a recorded CSV (plain or .gz) instead of DDS");
+  app.add_option("--estimates", replay.estimates, "replay: write the estimates CSV here");
+  app.add_option("--events", replay.events, "replay: write the fault events (JSON Lines) here");
+  return run_main(app, argc, argv, common, [&] {
+    if (config_file.empty()) {
+      spec.configure(nullptr);
+    } else {
+      const auto cfg = YamlSection::load_file(config_file);
+      spec.configure(&cfg);
+    }
+    if (!replay.frames.empty()) return run_replay_mode(spec, replay);
+    if (!replay.estimates.empty() || !replay.events.empty())
+      throw ConfigError("--estimates/--events", 0, "", "only meaningful with --replay FILE");
+    return run_node(spec, common);
+  });
+}
+
+}  // namespace windfdi
