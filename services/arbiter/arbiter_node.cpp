@@ -79,32 +79,13 @@ void ArbiterNode::handle_inputs(double now) {
     }
   }
 
-  std::vector<windfdi::ServiceHealth> health;
-  std::vector<bus::SampleMeta> meta;
-  health_in_.take(health, &meta);
-  for (std::size_t i = 0; i < health.size(); ++i) {
-    const auto& h = health[i];
-    if (h.service() == "arbiter") continue;
-    auto& known = health_writers_[meta[i].writer];
-    const bool is_new = !known.count(h.turbine_id());
-    known[h.turbine_id()] = h.service();
-    if (is_new) {
-      // A (re)appearing service is alive for the turbines it reports on ("*": every turbine).
-      for (auto& [id, t] : turbines_)
-        if (h.turbine_id() == "*" || h.turbine_id() == id) t.arbiter.on_service_alive(h.service(), true, now);
-      if (serves(h.turbine_id())) turbine(h.turbine_id()).arbiter.on_service_alive(h.service(), true, now);
-    }
-  }
-  for (const auto& ev : health_in_.take_liveliness_events()) {
-    if (ev.alive) continue;
-    auto it = health_writers_.find(ev.writer);
-    if (it == health_writers_.end()) continue;
-    for (const auto& [tid, service] : it->second) {
-      spdlog::warn("service {} for turbine {} lost its liveliness", service, tid);
-      for (auto& [id, t] : turbines_)
-        if (tid == "*" || tid == id) t.arbiter.on_service_alive(service, false, now);
-    }
-    health_writers_.erase(it);
+  for (const auto& c : liveliness_.poll(health_in_)) {
+    if (c.service == "arbiter") continue;
+    if (!c.alive) spdlog::warn("service {} for turbine {} lost its liveliness", c.service, c.turbine_id);
+    // "*": a farm-wide service instance speaks for every turbine.
+    for (auto& [id, t] : turbines_)
+      if (c.turbine_id == "*" || c.turbine_id == id) t.arbiter.on_service_alive(c.service, c.alive, now);
+    if (c.alive && serves(c.turbine_id)) turbine(c.turbine_id).arbiter.on_service_alive(c.service, true, now);
   }
 
   std::vector<windfdi::InertiaEstimate> inertia;

@@ -15,6 +15,7 @@
 #include "decision.hpp"
 #include "dds/endpoints.hpp"
 #include "health.hpp"
+#include "service_liveliness.hpp"
 
 namespace windfdi::arbiter {
 
@@ -57,8 +58,7 @@ class ArbiterNode {
   bus::Writer<windfdi::ControlConfiguration> config_out_;
   HealthReporter health_;
   std::map<std::string, Turbine> turbines_;
-  // Which (service, turbine) each health writer speaks for, so a lost liveliness names them.
-  std::map<eprosima::fastrtps::rtps::InstanceHandle_t, std::map<std::string, std::string>> health_writers_;
+  ServiceLiveliness liveliness_;
 };
 
 }  // namespace windfdi::arbiter

@@ -74,11 +74,14 @@ void FarmNode::handle(double now) {
     state_.on_config(rec);
   }
   std::vector<windfdi::ServiceHealth> health;
-  std::vector<bus::SampleMeta> meta;
-  health_.take(health, &meta);
-  for (std::size_t i = 0; i < health.size(); ++i) {
-    const auto& h = health[i];
-    health_writers_[meta[i].writer][h.turbine_id()] = h.service();
+  for (const auto& c : liveliness_.poll(health_, &health)) {
+    if (c.alive) continue;
+    spdlog::warn("{}: service {} lost (liveliness)", c.turbine_id, c.service);
+    service_state_[c.turbine_id + "/" + c.service] = "lost";
+    store_.add_health({now, c.turbine_id, c.service, "lost", "liveliness lost"});
+    state_.on_service_lost(c.turbine_id, c.service);
+  }
+  for (const auto& h : health) {
     const std::string state = pick(kServiceStates, h.state());
     const std::string key = h.turbine_id() + "/" + h.service();
     if (service_state_[key] != state) {
@@ -86,18 +89,6 @@ void FarmNode::handle(double now) {
       store_.add_health({now, h.turbine_id(), h.service(), state, h.detail()});
     }
     state_.on_service(h.turbine_id(), h.service(), state);
-  }
-  for (const auto& ev : health_.take_liveliness_events()) {
-    if (ev.alive) continue;
-    auto it = health_writers_.find(ev.writer);
-    if (it == health_writers_.end()) continue;
-    for (const auto& [turbine, service] : it->second) {
-      spdlog::warn("{}: service {} lost (liveliness)", turbine, service);
-      service_state_[turbine + "/" + service] = "lost";
-      store_.add_health({now, turbine, service, "lost", "liveliness lost"});
-      state_.on_service_lost(turbine, service);
-    }
-    health_writers_.erase(it);
   }
 }
 

@@ -12,6 +12,7 @@
 #include "dds/endpoints.hpp"
 #include "farm_state.hpp"
 #include "farm_store.hpp"
+#include "service_liveliness.hpp"
 
 namespace windfdi::farm {
 
@@ -38,7 +39,7 @@ class FarmNode {
   bus::Reader<windfdi::FaultReport> faults_;
   bus::Reader<windfdi::ControlConfiguration> configs_;
   bus::Reader<windfdi::ServiceHealth> health_;
-  std::map<eprosima::fastrtps::rtps::InstanceHandle_t, std::map<std::string, std::string>> health_writers_;
+  ServiceLiveliness liveliness_;
   std::map<std::string, std::string> service_state_;  // turbine/service -> last state stored
 };
 

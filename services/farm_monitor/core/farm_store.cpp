@@ -79,6 +79,27 @@ CREATE TABLE IF NOT EXISTS health_events (
 CREATE INDEX IF NOT EXISTS fault_events_turbine ON fault_events (turbine_id, received_at);
 )sql";
 
+// The fault columns every fault query selects, in this order, starting at `first`.
+constexpr const char* kFaultColumns =
+    "t, turbine_id, source, component, fault, state, severity, t_detected, statistic, threshold, size, detail";
+
+FaultEvent read_fault(const Statement& s, int first) {
+  FaultEvent e;
+  e.t = s.real(first);
+  e.turbine_id = s.text(first + 1);
+  e.source = s.text(first + 2);
+  e.component = s.text(first + 3);
+  e.fault = s.text(first + 4);
+  e.raised = s.text(first + 5) == "raised";
+  e.severity = s.text(first + 6);
+  e.t_detected = s.real(first + 7);
+  e.statistic = s.real(first + 8);
+  e.threshold = s.real(first + 9);
+  e.size = s.real(first + 10);
+  e.detail = s.text(first + 11);
+  return e;
+}
+
 }  // namespace
 
 FarmStore::FarmStore(const std::string& path) : path_(path) {
@@ -142,25 +163,12 @@ std::vector<HistoryRow> FarmStore::history(const std::string& turbine, double si
   std::vector<HistoryRow> rows;
   const bool all = turbine.empty();
   {
-    Statement s(db_,
-                "SELECT received_at, t, turbine_id, source, component, fault, state, severity, t_detected, "
-                "statistic, threshold, size, detail FROM fault_events WHERE received_at >= ? AND (? OR "
-                "turbine_id = ?) ORDER BY received_at, id");
+    Statement s(db_, (std::string("SELECT received_at, ") + kFaultColumns +
+                      " FROM fault_events WHERE received_at >= ? AND (? OR turbine_id = ?) ORDER BY received_at, id")
+                         .c_str());
     s.bind(1, since).bind(2, static_cast<int64_t>(all)).bind(3, turbine);
     while (s.step() == SQLITE_ROW) {
-      FaultEvent e;
-      e.t = s.real(1);
-      e.turbine_id = s.text(2);
-      e.source = s.text(3);
-      e.component = s.text(4);
-      e.fault = s.text(5);
-      e.raised = s.text(6) == "raised";
-      e.severity = s.text(7);
-      e.t_detected = s.real(8);
-      e.statistic = s.real(9);
-      e.threshold = s.real(10);
-      e.size = s.real(11);
-      e.detail = s.text(12);
+      const FaultEvent e = read_fault(s, 1);
       rows.push_back({s.real(0), "fault", e.turbine_id, to_json(e)});
     }
   }
@@ -197,23 +205,12 @@ std::vector<HistoryRow> FarmStore::history(const std::string& turbine, double si
 
 std::vector<FaultEvent> FarmStore::latest_faults() const {
   std::vector<FaultEvent> out;
-  Statement s(db_,
-              "SELECT turbine_id, source, component, fault, state, severity, t, size, detail FROM fault_events f "
-              "WHERE id = (SELECT MAX(id) FROM fault_events g WHERE g.turbine_id = f.turbine_id AND g.source = "
-              "f.source AND g.component = f.component AND g.fault = f.fault) ORDER BY turbine_id, component");
-  while (s.step() == SQLITE_ROW) {
-    FaultEvent e;
-    e.turbine_id = s.text(0);
-    e.source = s.text(1);
-    e.component = s.text(2);
-    e.fault = s.text(3);
-    e.raised = s.text(4) == "raised";
-    e.severity = s.text(5);
-    e.t = s.real(6);
-    e.size = s.real(7);
-    e.detail = s.text(8);
-    out.push_back(e);
-  }
+  Statement s(db_, (std::string("SELECT ") + kFaultColumns +
+                    " FROM fault_events f WHERE id = (SELECT MAX(id) FROM fault_events g WHERE g.turbine_id = "
+                    "f.turbine_id AND g.source = f.source AND g.component = f.component AND g.fault = f.fault) "
+                    "ORDER BY turbine_id, component")
+                       .c_str());
+  while (s.step() == SQLITE_ROW) out.push_back(read_fault(s, 0));
   return out;
 }
 
