@@ -1,0 +1,244 @@
+// windfdi-plant's runner.
+#include "plant_node.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <map>
+#include <memory>
+#include <set>
+
+#include "ControlConfiguration.h"
+#include "Estimates.h"
+#include "LidarFrame.h"
+#include "TurbineFrame.h"
+#include "dds/convert.hpp"
+#include "dds/endpoints.hpp"
+#include "health.hpp"
+#include "replay_csv.hpp"
+#include "turbine_sim.hpp"
+
+#ifndef WINDFDI_SOURCE_DEPLOY_DIR
+#define WINDFDI_SOURCE_DEPLOY_DIR "/etc/windfdi"
+#endif
+
+namespace windfdi::plant {
+
+double parse_rate(const std::string& text) {
+  if (text == "realtime") return 1.0;
+  if (text == "max") return 0.0;
+  char* end = nullptr;
+  const double f = std::strtod(text.c_str(), &end);
+  if (end == text.c_str() || *end != '\0' || !(f > 0.0) || !std::isfinite(f))
+    throw ConfigError("--rate", 0, "", "'" + text + "' is not realtime, max or a positive factor");
+  return f;
+}
+
+namespace {
+
+std::string deploy_dir() {
+  if (const char* d = std::getenv("WINDFDI_DEPLOY_DIR"); d && *d) return d;
+  return WINDFDI_SOURCE_DEPLOY_DIR;
+}
+
+// The DDS side: frames and LIDAR out, configurations and corrected measurements in.
+struct Bus {
+  Bus(const CommonOptions& common, const std::vector<std::string>& ids, int block, double rate, double dt)
+      : participant(participant_options(common, "windfdi-plant")),
+        frames(participant, "sensor_stream",
+               [&](eprosima::fastdds::dds::DataWriterQos& q) {
+                 // Deadline: two block periods of wall time; none when running as fast as possible.
+                 if (rate > 0.0) {
+                   const double period = 2.0 * block * dt / rate;
+                   q.deadline().period = eprosima::fastrtps::Duration_t(std::max(period, 0.02));
+                 } else {
+                   q.deadline().period = eprosima::fastrtps::c_TimeInfinite;
+                 }
+               }),
+        lidar(participant),
+        configs(participant, ids, &wakeup),
+        bias(participant, ids, &wakeup),
+        health(participant, "plant", ids) {}
+  bus::Participant participant;
+  bus::Wakeup wakeup;
+  bus::Writer<windfdi::TurbineFrame> frames;
+  bus::Writer<windfdi::LidarFrame> lidar;
+  bus::Reader<windfdi::ControlConfiguration> configs;
+  bus::Reader<windfdi::SensorBiasEstimate> bias;
+  HealthReporter health;
+};
+
+struct TurbineRun {
+  std::unique_ptr<TurbineSim> sim;
+  windfdi::TurbineFrame frame;
+  ControlInput input;
+  double config_received = -1.0;  // wall time of the last configuration, < 0: none yet
+  uint64_t config_revision = 0;
+  std::string arbiter;
+  double corrected_generator_speed = kNaN, corrected_at = -1.0;
+  uint64_t lidar_sequence = 0;
+  std::vector<int> fault_column;  // per own fault: index into the recording's fault columns
+};
+
+ControlInput to_input(const windfdi::ControlConfiguration& c) {
+  ControlInput in;
+  in.mode = static_cast<OperatingMode>(std::clamp(static_cast<int>(c.mode()), 0, 2));
+  in.ipc_source = static_cast<IpcSource>(std::clamp(static_cast<int>(c.ipc_source()), 0, 2));
+  for (int i = 0; i < 3; ++i) {
+    const double r = c.pitch_rate_limit()[i];
+    in.pitch_rate_limit[i] = std::isfinite(r) && r > 0.0 ? r : 10.0;
+  }
+  in.use_corrected_generator_speed = c.use_corrected_generator_speed();
+  in.inertia = std::isfinite(c.inertia()) && c.inertia() > 0 ? c.inertia() : 0.0;
+  if (c.ice_mode() == windfdi::ICE_STOP) in.mode = OperatingMode::kSafeStop;
+  return in;
+}
+
+}  // namespace
+
+int run_plant(const CommonOptions& common, const PlantOptions& o) {
+  Scenario sc = load_scenario(o.scenario, deploy_dir());
+  if (o.duration >= 0.0) sc.duration = o.duration;
+  if (o.block < 1 || o.block > 32) throw ConfigError("--block", 0, "", "must be 1..32");
+  const double dt = 1.0 / sc.sample_rate;
+  const std::set<std::string> only(common.turbines.begin(), common.turbines.end());
+  std::vector<std::string> ids;
+  std::map<std::string, TurbineRun> runs;
+  std::vector<std::string> fault_columns;
+  for (const auto& t : sc.turbines) {
+    if (!only.empty() && !only.count(t.id)) continue;
+    ids.push_back(t.id);
+    auto& run = runs[t.id];
+    const auto faults = sc.faults_of(t.id);
+    run.sim = std::make_unique<TurbineSim>(sc.turbine, t, faults, sc.seed, sc.sample_rate);
+    run.frame.turbine_id(t.id);
+    for (const auto& f : faults) {
+      const std::string name = "fault_active_" + f.target + "_" + f.type;
+      auto it = std::find(fault_columns.begin(), fault_columns.end(), name);
+      if (it == fault_columns.end()) it = fault_columns.insert(fault_columns.end(), name);
+      run.fault_column.push_back(static_cast<int>(it - fault_columns.begin()));
+    }
+  }
+  if (ids.empty()) throw ConfigError(o.scenario, 0, "turbines", "no turbine of the scenario matches --turbine");
+  if (o.offline && o.record.empty()) spdlog::warn("--offline without --record: the simulation goes nowhere");
+
+  std::vector<std::string> extra;
+  std::size_t n_truth = 0;
+  if (o.record_truth) {
+    extra = runs.begin()->second.sim->truth_columns();
+    extra.resize(extra.size() - runs.begin()->second.fault_column.size());  // per-turbine fault columns below
+    n_truth = extra.size();
+    extra.insert(extra.end(), fault_columns.begin(), fault_columns.end());
+  }
+  std::unique_ptr<FrameCsvWriter> recorder;
+  if (!o.record.empty()) recorder = std::make_unique<FrameCsvWriter>(o.record, extra);
+  std::unique_ptr<Bus> dds;
+  if (!o.offline) dds = std::make_unique<Bus>(common, ids, o.block, o.rate, dt);
+
+  spdlog::info("plant: {} turbine(s), {:.0f} s at {} Hz, rate {}, scenario {}", ids.size(), sc.duration,
+               sc.sample_rate, o.rate > 0 ? std::to_string(o.rate) + "x" : std::string("max"), sc.file);
+  const uint64_t n_samples = static_cast<uint64_t>(std::llround(sc.duration * sc.sample_rate));
+  const double wall_start = wall_time();
+  double last_progress = wall_start;
+  std::vector<double> values;
+  std::vector<windfdi::ControlConfiguration> configs;
+  std::vector<windfdi::SensorBiasEstimate> biases;
+  uint64_t write_failures = 0;
+  for (uint64_t k = 0; k < n_samples && !shutdown_requested(); ++k) {
+    const double t = k * dt;
+    if (o.rate > 0.0) {
+      const double due = wall_start + t / o.rate;
+      const double now = wall_time();
+      if (due > now) sleep_unless_shutdown(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                         std::chrono::duration<double>(due - now)));
+    }
+    const double now = wall_time();
+    if (dds) {
+      configs.clear();
+      dds->configs.take(configs);
+      for (const auto& c : configs) {
+        auto it = runs.find(c.turbine_id());
+        if (it == runs.end()) continue;
+        TurbineRun& r = it->second;
+        if (c.revision() != r.config_revision || c.arbiter_id() != r.arbiter)
+          spdlog::info("{}: applying configuration r{} from {}: mode {}, ipc {}", c.turbine_id(), c.revision(),
+                       c.arbiter_id(), static_cast<int>(c.mode()), static_cast<int>(c.ipc_source()));
+        r.input = to_input(c);
+        r.config_received = now;
+        r.config_revision = c.revision();
+        r.arbiter = c.arbiter_id();
+      }
+      biases.clear();
+      dds->bias.take(biases);
+      for (const auto& b : biases) {
+        auto it = runs.find(b.turbine_id());
+        if (it == runs.end()) continue;
+        it->second.corrected_generator_speed = b.corrected_generator_speed();
+        it->second.corrected_at = now;
+      }
+    }
+    for (const auto& id : ids) {
+      TurbineRun& r = runs[id];
+      // The arbiter's configuration holds for a lease; then the defaults, but a safe stop stays stopped.
+      if (r.config_received >= 0.0 && now - r.config_received > o.config_lease) {
+        const bool stopped = r.input.mode == OperatingMode::kSafeStop;
+        spdlog::warn("{}: no configuration for {:.1f} s (arbiter lost): back to defaults{}", id, o.config_lease,
+                     stopped ? ", staying in safe stop" : "");
+        r.input = ControlInput{};
+        if (stopped) r.input.mode = OperatingMode::kSafeStop;
+        r.config_received = -1.0;
+      }
+      ControlInput in = r.input;
+      // Corrected measurements only while they are fresh (sensor_bias alive).
+      in.corrected_generator_speed = (now - r.corrected_at < 1.0) ? r.corrected_generator_speed : kNaN;
+      FrameSample s = r.sim->step(in);
+      if (!o.record_truth) s.aero_torque = s.aero_power = kNaN;  // not measured on a real turbine
+      if (recorder) {
+        values.clear();
+        if (o.record_truth) {
+          const auto tv = r.sim->truth_values();
+          values.assign(tv.begin(), tv.begin() + static_cast<long>(n_truth));
+          values.resize(extra.size(), 0.0);
+          const auto active = r.sim->faults_active();
+          for (std::size_t i = 0; i < active.size(); ++i) values[n_truth + r.fault_column[i]] = active[i] ? 1.0 : 0.0;
+        }
+        recorder->write(id, s, values);
+      }
+      if (!dds) continue;
+      r.frame.samples().push_back(bus::to_idl(s));
+      if (static_cast<int>(r.frame.samples().size()) >= o.block) {
+        r.frame.t(s.t);
+        if (!dds->frames.write(r.frame)) ++write_failures;
+        r.frame.samples().clear();
+      }
+      if (r.sim->lidar_updated()) {
+        windfdi::LidarFrame l;
+        l.t(s.t);
+        l.turbine_id(id);
+        l.sequence(r.lidar_sequence++);
+        l.v_upper(s.lidar_v_upper);
+        l.v_lower(s.lidar_v_lower);
+        l.distance(r.sim->lidar_distance());
+        l.valid_mask((std::isfinite(s.lidar_v_upper) ? 1u : 0u) | (std::isfinite(s.lidar_v_lower) ? 2u : 0u));
+        if (!dds->lidar.write(l)) ++write_failures;
+      }
+      dds->health.count_in(id);
+    }
+    if (dds) {
+      dds->health.set_state(windfdi::SERVICE_OK);
+      dds->health.tick(now);
+    }
+    if (o.progress_period > 0 && now - last_progress >= o.progress_period) {
+      last_progress = now;
+      spdlog::info("plant: t = {:.0f} / {:.0f} s ({:.0f}x real time){}", t, sc.duration, t / (now - wall_start),
+                   write_failures ? fmt::format(", {} DDS writes refused", write_failures) : "");
+    }
+  }
+  if (recorder) recorder->flush();
+  if (dds) dds->frames.get()->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(2, 0));
+  spdlog::info("plant: done at t = {:.2f} s after {:.1f} s wall{}", runs.begin()->second.sim->time(),
+               wall_time() - wall_start, write_failures ? fmt::format(", {} DDS writes refused", write_failures) : "");
+  return write_failures ? kExitFailure : kExitOk;
+}
+
+}  // namespace windfdi::plant
