@@ -26,5 +26,11 @@ fi
 
 jobs=$(nproc 2>/dev/null || echo 2)
 cmake -S "$top" -B "$build" -DCMAKE_BUILD_TYPE="${WINDFDI_BUILD_TYPE:-Release}" >/dev/null
-cmake --build "$build" -j "$jobs"
-echo "setup: built into $build"
+start=$(date +%s)
+if ! cmake --build "$build" -j "$jobs" >"$build/build.log" 2>&1; then
+  tail -60 "$build/build.log"
+  echo "setup: build failed (full log: $build/build.log)" >&2
+  exit 1
+fi
+grep -E "warning:" "$build/build.log" | head -20 || true
+echo "setup: built into $build in $(($(date +%s) - start)) s"

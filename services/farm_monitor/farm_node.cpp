@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "dds/convert.hpp"
+#include "fault_report.hpp"
 #include "names.hpp"
 #include "yaml_config.hpp"
 
@@ -160,6 +161,17 @@ int print_history(const std::string& db, const std::string& turbine, double sinc
     }
     std::cout << "\n";
   }
+  return kExitOk;
+}
+
+}  // namespace windfdi::farm
+
+namespace windfdi::farm {
+
+int print_report(const std::string& db, const std::string& scenario, double since) {
+  FarmStore store(db);
+  const auto history = store.history("", since);
+  std::cout << render_report(match(read_injected(scenario), history), history);
   return kExitOk;
 }
 

@@ -47,6 +47,9 @@ class FarmNode {
 int publish_ack(const CommonOptions& common, const std::string& turbine, const std::string& component,
                 const std::string& fault, const std::string& operator_name, double timeout_s);
 
+/// Prints injected faults against detections (ends the demo).
+int print_report(const std::string& db, const std::string& scenario, double since);
+
 /// Prints the stored history (a table, or JSON Lines with `json`).
 int print_history(const std::string& db, const std::string& turbine, double since, bool json);
 

@@ -34,7 +34,13 @@ int main(int argc, char** argv) {
   ack->add_option("--operator", operator_name, "who acknowledges")->capture_default_str();
   ack->add_option("--timeout", timeout, "seconds to wait for an arbiter")->capture_default_str();
 
+  auto* report = app.add_subcommand("report", "injected faults of a scenario against the stored detections");
+  std::string scenario;
+  report->add_option("--scenario", scenario, "the plant scenario that was run")->required();
+  report->add_option("--since", since, "only events received at or after this Unix time (s)");
+
   return run_main(app, argc, argv, common, [&] {
+    if (*report) return farm::print_report(options.db, scenario, since);
     if (*history) return farm::print_history(options.db, turbine, since, json);
     if (*ack) return farm::publish_ack(common, ack_turbine, component, fault, operator_name, timeout);
     farm::FarmNode(common, options).run();

@@ -6,6 +6,7 @@
 
 #include "farm_state.hpp"
 #include "farm_store.hpp"
+#include "fault_report.hpp"
 #include "process.hpp"
 #include "yaml_config.hpp"
 
@@ -97,6 +98,39 @@ TEST(FarmState, TableShowsModesFaultsAndLostServices) {
   EXPECT_NE(table.find("safe_stop"), std::string::npos) << table;
   EXPECT_NE(table.find("lidar_model"), std::string::npos) << table;
   EXPECT_NE(table.find("ice_detect:lost"), std::string::npos) << table;
+}
+
+}  // namespace
+
+namespace {
+
+TEST(FaultReportTable, MatchesInjectedFaultsWithDetectionsAndReactions) {
+  using namespace windfdi::farm;
+  // GIVEN a leak injected at 120 s and a blade gain at 90 s, and a history with the leak detected at 126.5 s
+  std::vector<InjectedFault> injected = {{"WT02", "pitch_actuator_3", "hydraulic_leakage", 120.0, "", ""},
+                                         {"WT01", "blade_moment_2", "gain", 90.0, "", ""},
+                                         {"WT01", "converter", "torque_offset", 50.0, "", ""}};
+  for (auto& i : injected) std::tie(i.component, i.fault) = expected_detection(i.target, i.type);
+  EXPECT_EQ(injected[1].component, "blade_moment_sensor_2");
+  EXPECT_EQ(injected[1].fault, "sensor_abrupt");
+  EXPECT_EQ(injected[2].component, "");
+  FaultEvent e = fault("WT02", "pitch_actuator_3", "hydraulic_leakage", 127.0);
+  e.t_detected = 126.5;
+  std::vector<HistoryRow> history = {{1000.0, "fault", "WT02", to_json(e)},
+                                     {1000.2, "config", "WT02", {{"mode", "safe_stop"}, {"ipc_source", "strain_gauge"},
+                                                                 {"ice_mode", "normal"}}}};
+  // WHEN matched
+  const auto rows = match(injected, history);
+  // THEN the leak is detected with its class, 6.5 s after onset, and the arbiter's safe stop is its reaction
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_TRUE(rows[0].detected);
+  EXPECT_EQ(rows[0].detected_fault, "hydraulic_leakage");
+  EXPECT_DOUBLE_EQ(rows[0].delay, 6.5);
+  EXPECT_NE(rows[0].reaction.find("safe_stop"), std::string::npos);
+  EXPECT_FALSE(rows[1].detected);  // nothing reported on blade 2
+  const std::string table = render_report(rows, history);
+  EXPECT_NE(table.find("MISSED"), std::string::npos) << table;
+  EXPECT_NE(table.find("1 of 2 covered faults"), std::string::npos) << table;
 }
 
 }  // namespace

@@ -1,0 +1,113 @@
+// Multi-process tests with the real plant: frames of every turbine on DDS, the arbiter's configuration
+// applied, standby arbiter taking over at the plant, and the configuration lease.
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "process.hpp"
+
+using namespace windfdi::test;
+
+namespace {
+
+const std::string kScenarios = std::string(WINDFDI_SOURCE_DEPLOY_DIR) + "/scenarios/";
+
+bool wait_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout) {
+  const auto end = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < end) {
+    if (pred()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return pred();
+}
+
+bool contains(ChildProcess& p, const std::string& s) { return p.stderr_text().find(s) != std::string::npos; }
+
+class PlantDds : public ::testing::Test {
+ protected:
+  void TearDown() override { remove_stale_shm(domain); }
+  int domain = private_domain(3);
+  std::map<std::string, std::string> env = dds_env(domain);
+};
+
+TEST_F(PlantDds, PublishesEveryTurbinesFramesInOrder) {
+  // GIVEN a reader of every turbine WHEN the plant runs healthy.yaml (3 turbines) for 5 s in real time
+  ChildProcess listener({bin("windfdi-test-peer"), "listen", "--expect", "1500", "--timeout", "40"}, env, "listen");
+  ASSERT_TRUE(wait_until([&] { return listener.stdout_text().find("ready") != std::string::npos; },
+                         std::chrono::seconds(20)));
+  ChildProcess plant({bin("windfdi-plant"), "--scenario", kScenarios + "healthy.yaml", "--duration", "5"}, env,
+                     "plant");
+  ASSERT_EQ(plant.wait(std::chrono::seconds(40)), 0) << plant.stderr_text();
+  ASSERT_EQ(listener.wait(std::chrono::seconds(40)), 0) << listener.stdout_text();
+  // THEN each turbine's 500 samples arrived, without a gap
+  const std::string out = listener.stdout_text();
+  const auto last_line = out.substr(out.rfind('\n', out.size() - 2) + 1);
+  const auto j = nlohmann::json::parse(last_line);
+  for (const char* id : {"WT01", "WT02", "WT03"}) EXPECT_EQ(j["counts"][id], 500) << out;
+  EXPECT_TRUE(j["gaps"].empty()) << out;
+}
+
+TEST_F(PlantDds, StandbyArbiterTakesOverAtThePlantWithinTheLease) {
+  // GIVEN a plant, pump wear reported on WT01's blade 2, and a primary and a standby arbiter
+  ChildProcess plant({bin("windfdi-plant"), "--scenario", kScenarios + "pump_wear.yaml", "--duration", "120"}, env,
+                     "plant");
+  ChildProcess service({bin("windfdi-test-peer"), "fault", "--source", "pitch_diag", "--turbine-id", "WT01",
+                        "--script", "1:pitch_actuator_2:pump_wear:warning:raised", "--hold", "120"},
+                       env, "pitch_diag");
+  ChildProcess primary({bin("windfdi-arbiter"), "--arbiter-id", "primary", "--strength", "100"}, env, "primary");
+  ChildProcess standby({bin("windfdi-arbiter"), "--arbiter-id", "standby", "--strength", "10"}, env, "standby");
+  // THEN the plant applies the primary's configuration (blade 2 derated)
+  ASSERT_TRUE(wait_until([&] { return contains(plant, "from primary"); }, std::chrono::seconds(30)))
+      << plant.stderr_text();
+  std::this_thread::sleep_for(std::chrono::seconds(3));
+  EXPECT_FALSE(contains(plant, "from standby")) << "the standby's configuration reached the plant while the primary lived";
+  // WHEN the primary dies
+  primary.stop(SIGKILL);
+  const auto killed = std::chrono::steady_clock::now();
+  // THEN the standby's configuration is applied within its 2 s liveliness lease plus a republish period
+  ASSERT_TRUE(wait_until([&] { return contains(plant, "from standby"); }, std::chrono::seconds(20)))
+      << plant.stderr_text();
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - killed).count();
+  EXPECT_LT(s, 4.0);
+  // AND the plant never fell back to its defaults (no gap longer than the 5 s configuration lease)
+  EXPECT_FALSE(contains(plant, "arbiter lost")) << plant.stderr_text();
+  std::cout << "[ measured ] standby configuration applied by the plant " << s << " s after the primary died\n";
+}
+
+TEST_F(PlantDds, WithoutArbiterTheLeaseExpiresButASafeStopStays) {
+  // GIVEN a critical leak making the arbiter order a safe stop
+  ChildProcess plant({bin("windfdi-plant"), "--scenario", kScenarios + "hydraulic_leakage.yaml", "--duration", "120",
+                      "--config-lease", "3"},
+                     env, "plant");
+  ChildProcess service({bin("windfdi-test-peer"), "fault", "--source", "pitch_diag", "--turbine-id", "WT01",
+                        "--script", "1:pitch_actuator_1:hydraulic_leakage:critical:raised", "--hold", "120"},
+                       env, "pitch_diag");
+  ChildProcess arbiter({bin("windfdi-arbiter")}, env, "arbiter");
+  ASSERT_TRUE(wait_until([&] { return contains(plant, "mode 2"); }, std::chrono::seconds(30))) << plant.stderr_text();
+  // WHEN the only arbiter dies
+  arbiter.stop(SIGKILL);
+  // THEN after the 3 s lease the plant returns to its defaults but stays stopped
+  ASSERT_TRUE(wait_until([&] { return contains(plant, "arbiter lost"); }, std::chrono::seconds(20)))
+      << plant.stderr_text();
+  EXPECT_TRUE(contains(plant, "staying in safe stop")) << plant.stderr_text();
+}
+
+TEST(PlantCli, BadScenarioExitsWithCode2NamingFileLineAndKey) {
+  const std::string dir = temp_dir("plant_cli");
+  std::ofstream(dir + "/bad.yaml") << "duration: 10\nturbines:\n  - {id: WT01, wind: {mean: 10}}\nfaults:\n"
+                                       "  - {turbine: WT01, target: pitch_1, type: sticky, start: 1}\n";
+  ChildProcess plant({bin("windfdi-plant"), "--scenario", dir + "/bad.yaml", "--offline"}, {}, "plant_bad");
+  EXPECT_EQ(plant.wait(std::chrono::seconds(20)), 2);
+  const std::string err = plant.stderr_text();
+  EXPECT_NE(err.find(dir + "/bad.yaml:5"), std::string::npos) << err;
+  EXPECT_NE(err.find("faults[0].type"), std::string::npos) << err;
+  EXPECT_NE(err.find("stuck"), std::string::npos) << err;  // the valid choices are listed
+  ChildProcess rate({bin("windfdi-plant"), "--scenario", dir + "/bad.yaml", "--rate", "fast"}, {}, "plant_rate");
+  EXPECT_EQ(rate.wait(std::chrono::seconds(20)), 2);
+}
+
+}  // namespace

@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Runs every benchmark of tests/perf (build first with deploy/scripts/setup.sh). Results on stdout.
+set -euo pipefail
+top=$(cd "$(dirname "$0")/../.." && pwd)
+bin=${WINDFDI_BIN:-$top/build/bin}
+for b in "$bin"/bench_*; do
+  echo "== $(basename "$b")"
+  "$b" --benchmark_counters_tabular=true
+done
+echo "== plant_farm_cpu"
+"$top/tests/perf/plant_farm_cpu.sh" 100 20 3
