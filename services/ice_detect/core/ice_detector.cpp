@@ -1,0 +1,219 @@
+// Ice accretion and shedding from the estimated inertia (seed 003).
+#include "ice_detector.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace windfdi::ice_detect {
+
+DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& turbine) {
+  s.require_known_keys({"window", "reinit_period", "filter_time", "min_excitation", "power_gain", "friction",
+                        "clean_inertia", "learn_time", "median_estimates", "ice_radius", "warning_mass",
+                        "fault_mass", "critical_mass", "confirm_time", "clear_time", "clear_ratio", "shed_window",
+                        "shed_reinit", "shed_median", "shed_confirm", "shed_fraction", "shed_min_ice", "shed_hold",
+                        "min_generator_speed", "turbine_file"});
+  DetectorConfig c;
+  c.ice_radius = turbine.ice_radius;
+  c.gear_ratio = turbine.gear_ratio;
+  c.estimator.power_gain = turbine.drive_train_efficiency;
+  c.estimator.friction = turbine.generator_friction;
+  c.estimator.nominal_inertia = turbine.lumped_inertia();
+  auto& e = c.estimator;
+  e.window = s.get_number("window", e.window, 1.0, 3600.0);
+  e.reinit_period = s.get_number("reinit_period", e.reinit_period, 0.5, 3600.0);
+  e.filter_time = s.get_number("filter_time", e.filter_time, 0.0, 30.0);
+  e.min_excitation = s.get_number("min_excitation", e.min_excitation, 0.0, 100.0);
+  e.power_gain = s.get_number("power_gain", e.power_gain, 0.5, 1.0);
+  e.friction = s.get_number("friction", e.friction, 0.0, 1e4);
+  c.clean_inertia = s.get_number("clean_inertia", c.clean_inertia, 0.0, 1e9);
+  c.learn_time = s.get_number("learn_time", c.learn_time, 0.0, 1e6);
+  c.median_estimates = s.get_number("median_estimates", c.median_estimates, 1.0, 600.0);
+  c.ice_radius = s.get_number("ice_radius", c.ice_radius, 1.0, 200.0);
+  c.warning_mass = s.get_number("warning_mass", c.warning_mass, 0.0, 1e6);
+  c.fault_mass = s.get_number("fault_mass", c.fault_mass, c.warning_mass, 1e6);
+  c.critical_mass = s.get_number("critical_mass", c.critical_mass, c.fault_mass, 1e6);
+  c.confirm_time = s.get_number("confirm_time", c.confirm_time, 0.0, 3600.0);
+  c.clear_time = s.get_number("clear_time", c.clear_time, 0.0, 3600.0);
+  c.clear_ratio = s.get_number("clear_ratio", c.clear_ratio, 0.0, 1.0);
+  c.shed_window = s.get_number("shed_window", c.shed_window, 1.0, 3600.0);
+  c.shed_reinit = s.get_number("shed_reinit", c.shed_reinit, 0.5, 3600.0);
+  c.shed_median = s.get_number("shed_median", c.shed_median, 1.0, 600.0);
+  c.shed_confirm = s.get_number("shed_confirm", c.shed_confirm, 0.0, 600.0);
+  c.shed_fraction = s.get_number("shed_fraction", c.shed_fraction, 0.001, 0.5);
+  c.shed_min_ice = s.get_number("shed_min_ice", c.shed_min_ice, 0.0, 1e6);
+  c.shed_hold = s.get_number("shed_hold", c.shed_hold, 1.0, 3600.0);
+  c.min_generator_speed = s.get_number("min_generator_speed", c.min_generator_speed, 0.0, 1000.0);
+  return c;
+}
+
+IceDetector::IceDetector(const DetectorConfig& config, const TurbineParams& turbine)
+    : cfg_(config),
+      mass_per_inertia_(config.gear_ratio * config.gear_ratio / (config.ice_radius * config.ice_radius)),
+      estimator_(config.estimator),
+      fast_([&] {
+        EstimatorConfig f = config.estimator;
+        f.window = config.shed_window;
+        f.reinit_period = config.shed_reinit;
+        return f;
+      }()),
+      j0_(config.clean_inertia > 0.0 ? config.clean_inertia : turbine.lumped_inertia()) {}
+
+bool IceDetector::update(const FrameSample& s, double power, bool gap, std::vector<FaultEvent>& events) {
+  const bool ok = std::isfinite(s.t) && std::isfinite(s.generator_speed) && s.generator_speed >= 0.0 &&
+                  s.generator_speed < 400.0 && std::isfinite(s.gen_torque) && std::fabs(s.gen_torque) < 1e6 &&
+                  std::isfinite(power) && std::fabs(power) < 5e7;
+  if (!ok) {
+    ++rejected_;
+    return false;
+  }
+  if (gap) {
+    estimator_.reset();
+    fast_.reset();
+  }
+  if (s.generator_speed >= cfg_.min_generator_speed) {
+    estimator_.update(s.generator_speed, power, s.gen_torque);
+    fast_.update(s.generator_speed, power, s.gen_torque);
+  } else {
+    estimator_.reset();  // standstill: the one-mass balance divides by the speed
+    fast_.reset();
+  }
+  if (next_second_ < 0.0) next_second_ = s.t + 1.0;
+  if (s.t >= next_second_ - 1e-9) {
+    next_second_ += 1.0;
+    second(s.t, events);
+  }
+  return true;
+}
+
+bool IceDetector::estimate_due(InertiaOutput& out) {
+  if (!due_) return false;
+  due_ = false;
+  out = out_;
+  return true;
+}
+
+namespace {
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+}  // namespace
+
+void IceDetector::second(double t, std::vector<FaultEvent>& events) {
+  out_.t = t;
+  out_.excited = estimator_.excited();
+  if (estimator_.excited() && estimator_.inertia() > 0.0) {
+    recent_.push_back(estimator_.inertia());
+    while (recent_.size() > static_cast<std::size_t>(cfg_.median_estimates)) recent_.pop_front();
+  }
+  if (!recent_.empty()) out_.inertia = median(std::vector<double>(recent_.begin(), recent_.end()));
+  if (cfg_.learn_time > 0.0 && out_.inertia > 0.0 && learning_.size() < cfg_.learn_time) {
+    learning_.push_back(out_.inertia);
+    if (learning_.size() >= cfg_.learn_time) j0_ = median(learning_);
+  }
+  out_.inertia_clean = j0_;
+  const bool learning = cfg_.learn_time > 0.0 && learning_.size() < cfg_.learn_time;
+  out_.ice_mass = (out_.inertia > 0.0 && !learning) ? std::max(0.0, (out_.inertia - j0_) * mass_per_inertia_) : 0.0;
+  due_ = true;
+  if (out_.inertia <= 0.0 || learning) return;
+  level_events(t, events);
+
+  // Shedding: the fast estimate falls shed_fraction of J0 below the slow one (which still remembers the
+  // minute before), with ice there to shed.
+  if (fast_.excited() && fast_.inertia() > 0.0) {
+    fast_recent_.push_back(fast_.inertia());
+    while (fast_recent_.size() > static_cast<std::size_t>(cfg_.shed_median)) fast_recent_.pop_front();
+  }
+  const double fast = fast_recent_.empty() ? 0.0 : median(std::vector<double>(fast_recent_.begin(), fast_recent_.end()));
+  const double drop = out_.inertia - fast;
+  // Only ice that was reported can fall off: without it a drop is estimation noise.
+  const bool dropping = fast > 0.0 && drop >= cfg_.shed_fraction * j0_ && out_.ice_mass >= cfg_.shed_min_ice &&
+                        raised_level_ > 0;
+  if (!dropping) shed_since_ = -1.0;
+  if (dropping && shed_since_ < 0.0) shed_since_ = t;
+  if (shed_raised_at_ < 0.0 && dropping && t - shed_since_ >= cfg_.shed_confirm) {
+    shed_raised_at_ = t;
+    FaultEvent e;
+    e.t = t;
+    e.t_detected = shed_since_;
+    e.component = "rotor";
+    e.fault = "ice_shedding";
+    e.severity = "warning";
+    e.statistic = drop / j0_;
+    e.threshold = cfg_.shed_fraction;
+    e.size = drop * mass_per_inertia_;
+    char detail[160];
+    std::snprintf(detail, sizeof detail, "inertia fell %.1f %% of J0 (fast %.0f vs slow %.0f kg m^2): about %.0f kg shed",
+                  100.0 * drop / j0_, fast, out_.inertia, e.size);
+    e.detail = detail;
+    events.push_back(e);
+  } else if (shed_raised_at_ >= 0.0 && t - shed_raised_at_ >= cfg_.shed_hold) {
+    FaultEvent e;
+    e.t = t;
+    e.t_detected = shed_raised_at_;
+    e.component = "rotor";
+    e.fault = "ice_shedding";
+    e.severity = "warning";
+    e.raised = false;
+    e.detail = "shedding event over";
+    events.push_back(e);
+    shed_raised_at_ = -1.0;
+  }
+}
+
+void IceDetector::level_events(double t, std::vector<FaultEvent>& events) {
+  const double m = out_.ice_mass;
+  const double thresholds[] = {cfg_.warning_mass, cfg_.fault_mass, cfg_.critical_mass};
+  int level = 0;
+  for (int i = 0; i < 3; ++i)
+    if (m >= thresholds[i]) level = i + 1;
+  static const char* kSeverity[] = {"info", "warning", "fault", "critical"};
+  auto event = [&](bool raised, int lvl) {
+    FaultEvent e;
+    e.t = t;
+    e.t_detected = raised && above_since_ >= 0.0 ? above_since_ : t;
+    e.component = "rotor";
+    e.fault = "ice_accretion";
+    e.raised = raised;
+    e.severity = kSeverity[std::max(lvl, 1)];
+    e.statistic = m;
+    e.threshold = thresholds[std::max(lvl, 1) - 1];
+    e.size = m;
+    e.detail = "inertia " + std::to_string(static_cast<int>(out_.inertia)) + " kg m^2 vs clean " +
+               std::to_string(static_cast<int>(j0_)) + ": about " + std::to_string(static_cast<int>(m)) + " kg of ice";
+    events.push_back(e);
+  };
+  // Raise (or raise further) once the mass has stayed above the raised level for confirm_time.
+  if (level > raised_level_) {
+    if (above_since_ < 0.0) above_since_ = t;
+    if (t - above_since_ >= cfg_.confirm_time) {
+      raised_level_ = level;
+      event(true, level);
+      above_since_ = -1.0;
+    }
+    below_since_ = -1.0;
+    return;
+  }
+  above_since_ = -1.0;
+  // Clear (or lower) only below clear_ratio of the raised level's threshold, for clear_time.
+  if (raised_level_ > 0 && m < cfg_.clear_ratio * thresholds[raised_level_ - 1]) {
+    if (below_since_ < 0.0) below_since_ = t;
+    if (t - below_since_ >= cfg_.clear_time) {
+      int lower = 0;
+      for (int i = 0; i < 3; ++i)
+        if (m >= thresholds[i]) lower = i + 1;
+      if (lower == 0) {
+        event(false, raised_level_);
+      } else {
+        event(true, lower);  // still iced, at a lower severity
+      }
+      raised_level_ = lower;
+      below_since_ = -1.0;
+    }
+  } else {
+    below_since_ = -1.0;
+  }
+}
+
+}  // namespace windfdi::ice_detect

@@ -1,0 +1,89 @@
+// Ice accretion and shedding on one turbine's rotor from its estimated inertia (seed 003).
+#pragma once
+
+#include <deque>
+#include <string>
+#include <vector>
+
+#include "fault_event.hpp"
+#include "frame_sample.hpp"
+#include "inertia_estimator.hpp"
+#include "turbine_params.hpp"
+#include "yaml_config.hpp"
+
+namespace windfdi::ice_detect {
+
+struct DetectorConfig {
+  EstimatorConfig estimator;
+  double clean_inertia = 0.0;       ///< kg m^2 generator side, J0; 0: the turbine's lumped inertia
+  double learn_time = 0.0;          ///< s; > 0: learn J0 as the median estimate over this time instead
+  double median_estimates = 61;     ///< 1 Hz estimates in the running median that is reported
+  double ice_radius = 40.0;         ///< m, radius of gyration of the ice (m r^2 of rotor inertia)
+  double gear_ratio = 95.0;         ///< N, to refer the rotor inertia to the generator side
+  double warning_mass = 1500.0;     ///< kg of ice for an ice_accretion warning
+  double fault_mass = 2500.0;       ///< kg for severity fault
+  double critical_mass = 4500.0;    ///< kg for severity critical (the arbiter stops the turbine)
+  double confirm_time = 10.0;       ///< s a level must hold before it is raised
+  double clear_time = 30.0;         ///< s below the clear level before a raised level clears
+  double clear_ratio = 0.7;         ///< a level clears below this share of its threshold (hysteresis)
+  double shed_window = 45.0;        ///< s, window of the fast estimator that watches for shedding
+  double shed_reinit = 10.0;        ///< s between its initialisation events
+  double shed_median = 15;          ///< 1 Hz fast estimates in its running median
+  double shed_confirm = 30.0;       ///< s the drop must hold
+  double shed_fraction = 0.025;     ///< drop of the fast estimate below the slow one, share of J0, for ice_shedding
+  double shed_min_ice = 500.0;      ///< kg of ice that must be estimated, with ice_accretion raised, to shed
+  double shed_hold = 60.0;          ///< s an ice_shedding report stays raised
+  double min_generator_speed = 30.0;  ///< rad/s below which the estimator is not fed (standstill)
+};
+
+/// Loads the `ice_detect` keys (unknown keys and out-of-range values are ConfigErrors).
+DetectorConfig load_detector_config(const YamlSection& section, const TurbineParams& turbine);
+
+/// The 1 Hz estimate.
+struct InertiaOutput {
+  double t = 0.0;
+  double inertia = 0.0;        ///< kg m^2 generator side (median of the last estimates), 0 before any
+  double inertia_clean = 0.0;  ///< J0
+  double ice_mass = 0.0;       ///< kg
+  bool excited = false;
+};
+
+/// One turbine: samples in (with their aerodynamic power), estimates and fault events out.
+class IceDetector {
+ public:
+  IceDetector(const DetectorConfig& config, const TurbineParams& turbine);
+
+  /// Feeds one sample whose aerodynamic power is `aero_power` (W; the node computes it from the aerodynamic
+  /// model or takes the recording's column). Returns false for a rejected sample (NaN, infinite, out of
+  /// range): counted, never fed. `gap`: samples were lost, the regressor restarts.
+  bool update(const FrameSample& s, double aero_power, bool gap, std::vector<FaultEvent>& events);
+  /// True once per second of sample time, with the estimate in `out`.
+  bool estimate_due(InertiaOutput& out);
+
+  uint64_t rejected() const { return rejected_; }
+  const InertiaEstimator& estimator() const { return estimator_; }
+
+ private:
+  void second(double t, std::vector<FaultEvent>& events);
+  void level_events(double t, std::vector<FaultEvent>& events);
+
+  DetectorConfig cfg_;
+  double mass_per_inertia_;  // kg of ice per kg m^2 of generator-side inertia
+  InertiaEstimator estimator_;  // the reported inertia (long window)
+  InertiaEstimator fast_;       // short window: sees a shedding step within a minute
+  std::deque<double> fast_recent_;
+  double shed_since_ = -1.0;
+  double next_second_ = -1.0;
+  bool due_ = false;
+  InertiaOutput out_;
+  std::deque<double> recent_;    // last raw estimates (1 Hz, excited only)
+  std::vector<double> learning_;
+  double j0_;
+  // Accretion: the raised severity level (0 none, 1 warning, 2 fault, 3 critical) and its timers.
+  int raised_level_ = 0;
+  double above_since_ = -1.0, below_since_ = -1.0;
+  double shed_raised_at_ = -1.0;
+  uint64_t rejected_ = 0;
+};
+
+}  // namespace windfdi::ice_detect

@@ -1,0 +1,6 @@
+// windfdi-ice-detect: ice accretion and shedding from the estimated rotor inertia (seed 003).
+#include "ice_service.hpp"
+
+int main(int argc, char** argv) {
+  return windfdi::run_diagnostic_service(argc, argv, windfdi::ice_detect::ice_detect_spec());
+}
