@@ -13,24 +13,41 @@ namespace windfdi {
 
 namespace {
 
+// The estimate values of the last feed() that produced one.
+std::vector<std::string>& last_values() {
+  thread_local std::vector<std::string> v;
+  return v;
+}
+
+// Feeds one sample to a turbine's diagnoser and hands on what it produced, the same offline and on DDS.
+bool feed(const ServiceSpec& spec, const std::string& id, TurbineDiagnoser& d, const FrameSample& s, bool gap,
+          const std::function<void(FaultEvent&)>& on_event, const std::function<void()>& on_estimate) {
+  thread_local std::vector<FaultEvent> events;
+  thread_local std::vector<std::string> values;
+  events.clear();
+  const bool ok = d.update(s, gap, events);
+  for (auto& e : events) {
+    e.turbine_id = id;
+    e.source = spec.name;
+    on_event(e);
+  }
+  values.clear();
+  if (d.estimate_due(values)) {
+    last_values().swap(values);
+    on_estimate();
+  }
+  return ok;
+}
+
 int run_replay_mode(const ServiceSpec& spec, const ReplayOptions& options) {
   std::map<std::string, std::unique_ptr<TurbineDiagnoser>> turbines;
-  std::vector<FaultEvent> events;
-  std::vector<std::string> values;
   const auto stats = run_replay(options, spec.estimate_columns,
                                 [&](const std::string& id, const FrameSample& s, bool gap, ReplaySink& sink) {
                                   auto& d = turbines[id];
                                   if (!d) d = spec.make(id);
-                                  events.clear();
-                                  const bool ok = d->update(s, gap, events);
-                                  for (auto& e : events) {
-                                    e.turbine_id = id;
-                                    e.source = spec.name;
-                                    sink.event(e);
-                                  }
-                                  values.clear();
-                                  if (d->estimate_due(values)) sink.estimate(s.t, id, values);
-                                  return ok;
+                                  return feed(
+                                      spec, id, *d, s, gap, [&](FaultEvent& e) { sink.event(e); },
+                                      [&] { sink.estimate(s.t, id, last_values()); });
                                 });
   spdlog::info("replay of {}: {} samples, {} rejected, {} lost (sequence gaps), {} estimates, {} events",
                options.frames, stats.samples, stats.rejected, stats.sequence_gaps, stats.estimates, stats.events);
@@ -57,8 +74,6 @@ int run_node(const ServiceSpec& spec, const CommonOptions& common) {
       l.valid = (f.valid_mask() & 3u) == 3u;
     });
   const EstimatePublisher publish = spec.make_publisher ? spec.make_publisher(node.participant()) : nullptr;
-  std::vector<FaultEvent> events;
-  std::vector<std::string> values;
   spdlog::info("{} running{}", spec.name, common.turbines.empty() ? " for every turbine" : "");
   node.run([&](const std::string& id, const FrameSample& sample, bool gap) {
     auto& d = turbines[id];
@@ -77,16 +92,11 @@ int run_node(const ServiceSpec& spec, const CommonOptions& common) {
         s.valid_mask &= ~kValidLidar;
       }
     }
-    events.clear();
-    const bool ok = d->update(s, gap, events);
-    for (auto& e : events) {
-      e.turbine_id = id;
-      e.source = spec.name;
-      node.publish(e);
-    }
-    values.clear();
-    if (d->estimate_due(values) && publish) publish(id, s.t, *d);
-    return ok;
+    return feed(
+        spec, id, *d, s, gap, [&](FaultEvent& e) { node.publish(e); },
+        [&] {
+          if (publish) publish(id, s.t, *d);
+        });
   });
   return kExitOk;
 }

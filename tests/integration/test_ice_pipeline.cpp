@@ -39,7 +39,7 @@ TEST(IcePipeline, IcedRotorReachesTheFarmAndTheArbiterAdaptsTheController) {
   const bool adapted = wait_until(
       [&] { return plant.stderr_text().find("applying configuration") != std::string::npos &&
                    farm.stderr_text().find("ice adapted") != std::string::npos; },
-      std::chrono::seconds(40));
+      std::chrono::seconds(60));
   // AND the farm stored ice_accretion on rotor from ice_detect
   ChildProcess history({bin("windfdi-farm"), "--db", dir + "/farm.sqlite", "history", "--json"}, env, "history");
   ASSERT_EQ(history.wait(std::chrono::seconds(20)), 0);

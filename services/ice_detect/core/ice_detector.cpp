@@ -12,7 +12,7 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
                         "clean_inertia", "learn_time", "median_estimates", "ice_radius", "warning_mass",
                         "fault_mass", "critical_mass", "confirm_time", "clear_time", "clear_ratio", "shed_window",
                         "shed_reinit", "shed_median", "shed_confirm", "shed_fraction", "shed_min_ice", "shed_hold",
-                        "min_generator_speed", "turbine_file"});
+                        "min_generator_speed", "min_gen_torque", "max_pitch", "turbine_file"});
   DetectorConfig c;
   c.ice_radius = turbine.ice_radius;
   c.gear_ratio = turbine.gear_ratio;
@@ -44,6 +44,8 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
   c.shed_min_ice = s.get_number("shed_min_ice", c.shed_min_ice, 0.0, 1e6);
   c.shed_hold = s.get_number("shed_hold", c.shed_hold, 1.0, 3600.0);
   c.min_generator_speed = s.get_number("min_generator_speed", c.min_generator_speed, 0.0, 1000.0);
+  c.min_gen_torque = s.get_number("min_gen_torque", c.min_gen_torque, 0.0, 1e6);
+  c.max_pitch = s.get_number("max_pitch", c.max_pitch, 0.0, 95.0);
   return c;
 }
 
@@ -71,11 +73,15 @@ bool IceDetector::update(const FrameSample& s, double power, bool gap, std::vect
     estimator_.reset();
     fast_.reset();
   }
-  if (s.generator_speed >= cfg_.min_generator_speed) {
+  // Estimate only in power production: at standstill the balance divides by the speed, and a stopping or
+  // feathered rotor is driven by the brake and the controller, where the power model does not hold.
+  double pitch = 0.0;
+  for (double b : s.pitch) pitch = std::max(pitch, std::isfinite(b) ? b : 90.0);
+  if (s.generator_speed >= cfg_.min_generator_speed && s.gen_torque >= cfg_.min_gen_torque && pitch <= cfg_.max_pitch) {
     estimator_.update(s.generator_speed, power, s.gen_torque);
     fast_.update(s.generator_speed, power, s.gen_torque);
   } else {
-    estimator_.reset();  // standstill: the one-mass balance divides by the speed
+    estimator_.reset();
     fast_.reset();
   }
   if (next_second_ < 0.0) next_second_ = s.t + 1.0;
@@ -94,6 +100,17 @@ bool IceDetector::estimate_due(InertiaOutput& out) {
 }
 
 namespace {
+FaultEvent rotor_event(const char* fault, bool raised, const char* severity, double t, double t_detected) {
+  FaultEvent e;
+  e.t = t;
+  e.t_detected = t_detected;
+  e.component = "rotor";
+  e.fault = fault;
+  e.raised = raised;
+  e.severity = severity;
+  return e;
+}
+
 double median(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
   return v[v.size() / 2];
@@ -116,14 +133,21 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   const bool learning = cfg_.learn_time > 0.0 && learning_.size() < cfg_.learn_time;
   out_.ice_mass = (out_.inertia > 0.0 && !learning) ? std::max(0.0, (out_.inertia - j0_) * mass_per_inertia_) : 0.0;
   due_ = true;
-  if (out_.inertia <= 0.0 || learning) return;
+  // Judge ice only with a calibrated power model (the clean rotor's Cp overstates an iced rotor's power), and
+  // only once the window and the median hold no estimate from before the calibration.
+  if (estimator_.calibrated() && calibrated_at_ < 0.0) calibrated_at_ = t;
+  const double settle = cfg_.estimator.window + cfg_.median_estimates;
+  if (out_.inertia <= 0.0 || learning || calibrated_at_ < 0.0 || t - calibrated_at_ < settle) return;
   level_events(t, events);
 
   // Shedding: the fast estimate falls shed_fraction of J0 below the slow one (which still remembers the
   // minute before), with ice there to shed.
+  // Only a live fast estimate counts: a held one (calm, a stopped turbine) says nothing about now.
   if (fast_.excited() && fast_.inertia() > 0.0) {
     fast_recent_.push_back(fast_.inertia());
     while (fast_recent_.size() > static_cast<std::size_t>(cfg_.shed_median)) fast_recent_.pop_front();
+  } else {
+    fast_recent_.clear();
   }
   const double fast = fast_recent_.empty() ? 0.0 : median(std::vector<double>(fast_recent_.begin(), fast_recent_.end()));
   const double drop = out_.inertia - fast;
@@ -134,12 +158,7 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   if (dropping && shed_since_ < 0.0) shed_since_ = t;
   if (shed_raised_at_ < 0.0 && dropping && t - shed_since_ >= cfg_.shed_confirm) {
     shed_raised_at_ = t;
-    FaultEvent e;
-    e.t = t;
-    e.t_detected = shed_since_;
-    e.component = "rotor";
-    e.fault = "ice_shedding";
-    e.severity = "warning";
+    FaultEvent e = rotor_event("ice_shedding", true, "warning", t, shed_since_);
     e.statistic = drop / j0_;
     e.threshold = cfg_.shed_fraction;
     e.size = drop * mass_per_inertia_;
@@ -149,13 +168,7 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
     e.detail = detail;
     events.push_back(e);
   } else if (shed_raised_at_ >= 0.0 && t - shed_raised_at_ >= cfg_.shed_hold) {
-    FaultEvent e;
-    e.t = t;
-    e.t_detected = shed_raised_at_;
-    e.component = "rotor";
-    e.fault = "ice_shedding";
-    e.severity = "warning";
-    e.raised = false;
+    FaultEvent e = rotor_event("ice_shedding", false, "warning", t, shed_raised_at_);
     e.detail = "shedding event over";
     events.push_back(e);
     shed_raised_at_ = -1.0;
@@ -170,13 +183,8 @@ void IceDetector::level_events(double t, std::vector<FaultEvent>& events) {
     if (m >= thresholds[i]) level = i + 1;
   static const char* kSeverity[] = {"info", "warning", "fault", "critical"};
   auto event = [&](bool raised, int lvl) {
-    FaultEvent e;
-    e.t = t;
-    e.t_detected = raised && above_since_ >= 0.0 ? above_since_ : t;
-    e.component = "rotor";
-    e.fault = "ice_accretion";
-    e.raised = raised;
-    e.severity = kSeverity[std::max(lvl, 1)];
+    FaultEvent e = rotor_event("ice_accretion", raised, kSeverity[std::max(lvl, 1)], t,
+                               raised && above_since_ >= 0.0 ? above_since_ : t);
     e.statistic = m;
     e.threshold = thresholds[std::max(lvl, 1) - 1];
     e.size = m;

@@ -34,6 +34,8 @@ struct DetectorConfig {
   double shed_min_ice = 500.0;      ///< kg of ice that must be estimated, with ice_accretion raised, to shed
   double shed_hold = 60.0;          ///< s an ice_shedding report stays raised
   double min_generator_speed = 30.0;  ///< rad/s below which the estimator is not fed (standstill)
+  double min_gen_torque = 3000.0;     ///< N m; below it the turbine is not producing (stopping): not fed
+  double max_pitch = 30.0;            ///< deg; above it (feathering) the power model is not trusted: not fed
 };
 
 /// Loads the `ice_detect` keys (unknown keys and out-of-range values are ConfigErrors).
@@ -73,6 +75,7 @@ class IceDetector {
   InertiaEstimator fast_;       // short window: sees a shedding step within a minute
   std::deque<double> fast_recent_;
   double shed_since_ = -1.0;
+  double calibrated_at_ = -1.0;  // time the power model was first calibrated
   double next_second_ = -1.0;
   bool due_ = false;
   InertiaOutput out_;

@@ -48,7 +48,10 @@ void InertiaEstimator::calibrate() {
   const double omega_end = seconds_[(second_head_ + seconds_.size() - 1) % seconds_.size()].omega_end;
   const double omega_start = seconds_[second_head_].omega_end;  // the oldest second's end
   const double j = theta_ > 0.0 ? 1.0 / theta_ : cfg_.nominal_inertia;
-  if (sx > 0.0) scale_ = std::clamp((sg + j * (omega_end - omega_start)) / sx, 0.5, 1.5);
+  if (sx > 0.0) {
+    scale_ = std::clamp((sg + j * (omega_end - omega_start)) / sx, 0.5, 1.5);
+    calibrated_ = true;
+  }
 }
 
 void InertiaEstimator::reset() {

@@ -39,6 +39,8 @@ class InertiaEstimator {
   uint64_t estimates() const { return estimates_; }
   /// The power model's calibration: aerodynamic power is taken as power_scale() times the given one.
   double power_scale() const { return scale_; }
+  /// True once the power model has a full window of calibration (always with power_window 0).
+  bool calibrated() const { return seconds_.empty() || calibrated_; }
 
  private:
   void initialise();  // an initialisation event of eq 4: omega_0 := omega, psi := 0
@@ -59,6 +61,7 @@ class InertiaEstimator {
   std::size_t second_head_ = 0, seconds_filled_ = 0, samples_in_second_ = 0;
   Second current_;
   double scale_ = 1.0;
+  bool calibrated_ = false;
   void calibrate();
   std::vector<double> ring_psi_, ring_dw_, ring_tau_;  // window of (psi_i, omega_i - omega_0, time since init)
   std::size_t head_ = 0, filled_ = 0;

@@ -215,3 +215,31 @@ TEST(IceDetector, ConfigRejectsUnknownKeysAndBadRanges) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(IceDetector, AStoppingTurbineRaisesNoIce) {
+  // GIVEN a turbine in 16 m/s ordered to a safe stop at 600 s (feather, torque to zero)
+  TurbineParams p;
+  AeroModel aero(p);
+  plant::TurbineScenario t;
+  t.id = "WT01";
+  t.wind.mean = 16.0;
+  t.wind.turbulence_intensity = 0.12;
+  plant::TurbineSim sim(p, t, {}, 11, 100.0);
+  IceDetector det(load_detector_config(defaults(), p), p);
+  std::vector<FaultEvent> events;
+  InertiaOutput o;
+  plant::ControlInput stop;
+  stop.mode = plant::OperatingMode::kSafeStop;
+  for (int k = 0; k < 1500 * 100; ++k) {
+    FrameSample s = k < 60000 ? sim.step() : sim.step(stop);
+    s.aero_power = kNaN;
+    det.update(s, aero_power_of(s, aero), false, events);
+    det.estimate_due(o);
+  }
+  // THEN the stop is not mistaken for ice (or its shedding)
+  EXPECT_TRUE(events.empty()) << events.size() << " events, first " << events[0].fault;
+}
+
+}  // namespace
