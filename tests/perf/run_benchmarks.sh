@@ -7,5 +7,7 @@ for b in "$bin"/bench_*; do
   echo "== $(basename "$b")"
   "$b" --benchmark_counters_tabular=true
 done
+echo "== ipc_value"
+"$bin/ipc_value" 5 3
 echo "== plant_farm_cpu"
 "$top/tests/perf/plant_farm_cpu.sh" 100 20 3
