@@ -1,0 +1,290 @@
+// Seed 002 (Wu & Li): MIFG (eqs 16-19), RLS with forgetting, auxiliary-model forms, path bank, eq 20 gate.
+#include "identifier.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+namespace windfdi::pitch_diag {
+
+namespace {
+constexpr int kPeCheckEvery = 10;  // samples between the eq 20 tests (10 Hz at 100 Hz): a 4x4 Cholesky each
+}  // namespace
+
+const char* method_name(Method m) {
+  switch (m) {
+    case Method::kPaperMifg:
+      return "paper_mifg";
+    case Method::kPaperRls:
+      return "paper_rls";
+    case Method::kAmMifg:
+      return "am_mifg";
+    case Method::kAmRls:
+      return "am_rls";
+    case Method::kOeRls:
+      return "oe_rls";
+    case Method::kBank:
+      return "bank";
+  }
+  return "?";
+}
+
+bool parse_method(const std::string& name, Method& out) {
+  for (Method m : {Method::kPaperMifg, Method::kPaperRls, Method::kAmMifg, Method::kAmRls, Method::kOeRls,
+                   Method::kBank})
+    if (name == method_name(m)) {
+      out = m;
+      return true;
+    }
+  return false;
+}
+
+Identifier::Identifier(const IdentifierConfig& config) : cfg_(config) {
+  theta0_ = theta_from_continuous(cfg_.omega_n0, cfg_.zeta0, cfg_.T);
+  c_hp_ = cfg_.highpass_hz > 0.0 ? std::exp(-2.0 * M_PI * cfg_.highpass_hz * cfg_.T) : 0.0;
+  lambda_pe_ = 1.0 - cfg_.T / std::max(cfg_.pe_window, cfg_.T);
+  settle_samples_ = std::max(3, static_cast<int>(std::lround(cfg_.restart_settle / cfg_.T)));
+  pe_scale_ = 1.0 / (cfg_.pe_omega * cfg_.T);
+  Phi_.assign(std::max(1, cfg_.p), Eigen::Vector4d::Zero());
+  Y_.assign(std::max(1, cfg_.p), 0.0);
+  if (cfg_.method == Method::kBank) {
+    // Healthy model first, then bank_steps models along each path h + alpha (f - h) (eqs 11-13).
+    const auto& sig = cfg_.signatures;
+    const int n = std::max(1, cfg_.bank_steps);
+    const int paths = static_cast<int>(sig.size()) - 1;
+    const int models = 1 + paths * n;
+    ba1_.resize(models);
+    ba2_.resize(models);
+    bb1_.resize(models);
+    bb2_.resize(models);
+    bpath_.assign(models, -1);
+    balpha_.assign(models, 0.0);
+    for (int m = 0; m < models; ++m) {
+      double wn = sig[0].omega_n, z = sig[0].zeta;
+      if (m > 0) {
+        const int k = (m - 1) / n;
+        const double alpha = static_cast<double>((m - 1) % n + 1) / n;
+        bpath_[m] = k;
+        balpha_[m] = alpha;
+        wn = (1.0 - alpha) * sig[0].omega_n + alpha * sig[k + 1].omega_n;
+        z = (1.0 - alpha) * sig[0].zeta + alpha * sig[k + 1].zeta;
+      }
+      const Theta th = theta_from_continuous(wn, z, cfg_.T);
+      ba1_(m) = th(0);
+      ba2_(m) = th(1);
+      bb1_(m) = th(2);
+      bb2_(m) = th(3);
+    }
+  }
+  reset();
+}
+
+void Identifier::reset() {
+  theta_ = theta0_;
+  theta_sim_ = theta0_;
+  eta_ = Eigen::Vector2d(cfg_.omega_n0, cfg_.zeta0);
+  P2_ = Eigen::Vector2d(cfg_.p0 * cfg_.omega_n0 * cfg_.omega_n0, cfg_.p0 * cfg_.zeta0 * cfg_.zeta0)
+            .asDiagonal();
+  oe_refresh();
+  P_ = cfg_.p0 * Eigen::Matrix4d::Identity();
+  r_ = cfg_.r0;
+  R_pe_.setZero();
+  excited_ = cfg_.pe_threshold <= 0.0;
+  pe_count_ = 0;
+  if (cfg_.method == Method::kBank) bV_ = Eigen::ArrayXd::Zero(ba1_.size());
+  restart();
+}
+
+void Identifier::restart() {
+  started_ = false;
+  since_restart_ = 0;
+  ring_head_ = 0;
+  ring_fill_ = 0;
+  u1_ = u2_ = u3_ = u4_ = 0.0;
+  y1_ = y2_ = x1_ = x2_ = 0.0;
+  psi1_.setZero();
+  psi2_.setZero();
+  if (cfg_.method == Method::kBank) {
+    bx1_ = Eigen::ArrayXd::Zero(ba1_.size());
+    bx2_ = Eigen::ArrayXd::Zero(ba1_.size());
+  }
+}
+
+void Identifier::update(double u, double y) {
+  if (!started_) {
+    // Level removal starts from the current operating point: u_f = y_f = 0 and the models at rest.
+    started_ = true;
+    u_raw1_ = u;
+    y_raw1_ = y;
+    uf_ = yf_ = 0.0;
+  }
+  double uf = u, yf = y;
+  if (c_hp_ > 0.0) {
+    // The same first-order high-pass on u and y: the model between them is unchanged (LTI filters commute),
+    // while the 2-20 deg operating level and any constant pitch-sensor offset are removed.
+    uf = c_hp_ * (uf_ + u - u_raw1_);
+    yf = c_hp_ * (yf_ + y - y_raw1_);
+  }
+  u_raw1_ = u;
+  y_raw1_ = y;
+  uf_ = uf;
+  yf_ = yf;
+
+  if (since_restart_ >= 4 && cfg_.pe_threshold > 0.0) {
+    // Eq 20 on psi = M phi_u, a non-singular difference basis of the input lags u(t-1..t-4): the same PE
+    // condition, but well conditioned at 100 Hz where the raw lags are nearly equal.
+    const double s = pe_scale_;
+    Eigen::Vector4d psi(u1_, (u1_ - u2_) * s, (u1_ - 2.0 * u2_ + u3_) * s * s,
+                        (u1_ - 3.0 * u2_ + 3.0 * u3_ - u4_) * s * s * s);
+    R_pe_ *= lambda_pe_;
+    R_pe_.selfadjointView<Eigen::Lower>().rankUpdate(psi, 1.0 - lambda_pe_);
+    if (++pe_count_ >= kPeCheckEvery) {
+      pe_count_ = 0;
+      // lambda_min(R) >= alpha  <=>  R - alpha I is positive definite.
+      Eigen::Matrix4d A = R_pe_;
+      A.diagonal().array() -= cfg_.pe_threshold;
+      Eigen::LLT<Eigen::Matrix4d, Eigen::Lower> llt(A);
+      excited_ = llt.info() == Eigen::Success;
+    }
+  }
+
+  const bool learn = excited_ && since_restart_ >= settle_samples_;
+  if (cfg_.method == Method::kBank) {
+    bank_step(yf);
+    if (learn) ++updates_;
+  } else {
+    const bool oe = cfg_.method == Method::kOeRls;
+    const bool am = oe || cfg_.method == Method::kAmMifg || cfg_.method == Method::kAmRls;
+    // Eq 10 regressor with the errata's b2 u(t-2) term; the AM forms use the model output x for y.
+    const Eigen::Vector4d phi(am ? -x1_ : -y1_, am ? -x2_ : -y2_, u1_, u2_);
+    if (oe) {
+      // Recursive prediction error for the output-error model (Ljung): prediction x(t) = phi_a^T theta(eta),
+      // gradient -de/dtheta = phi_a / A(q), i.e. psi(t) = phi_a(t) - a1 psi(t-1) - a2 psi(t-2). The 1/A
+      // filter is what the pseudo-linear AM form lacks (it needs 1/A(q) SPR, false for poles this close to z
+      // = 1); two physical parameters instead of four keep it well conditioned at 0.2 deg noise.
+      const Eigen::Vector4d psi = phi - theta_sim_(0) * psi1_ - theta_sim_(1) * psi2_;
+      psi2_ = psi1_;
+      psi1_ = psi;
+      const double e = yf - phi.dot(theta_sim_);
+      if (learn) {
+        const Eigen::Vector2d g = J_.transpose() * psi;
+        const Eigen::Vector2d Pg = P2_ * g;
+        const Eigen::Vector2d K = Pg / (cfg_.rls_lambda + g.dot(Pg));
+        eta_ += K * e;
+        P2_ = (P2_ - K * Pg.transpose()) / cfg_.rls_lambda;
+        // Physical bounds: a wild step in a transient must not leave the model family.
+        eta_(0) = std::clamp(eta_(0), 0.3, 60.0);
+        eta_(1) = std::clamp(eta_(1), 0.05, 3.0);
+        ++updates_;
+        if (++oe_count_ >= kPeCheckEvery) {
+          oe_count_ = 0;
+          oe_refresh();
+        }
+      }
+    } else if (learn) {
+      if (cfg_.method == Method::kPaperMifg || cfg_.method == Method::kAmMifg) {
+        // Eqs 18-19: the last p regressors and outputs; eq 17: r(t) = lambda r(t-1) + |phi(t)|^2.
+        const int p = static_cast<int>(Phi_.size());
+        Phi_[ring_head_] = phi;
+        Y_[ring_head_] = yf;
+        ring_head_ = (ring_head_ + 1) % p;
+        ring_fill_ = std::min(ring_fill_ + 1, p);
+        r_ = cfg_.lambda * r_ + phi.squaredNorm();
+        // Eq 16: theta(t) = theta(t-1) + Phi(t) / r(t) [Y(t) - Phi^T(t) theta(t-1)].
+        Eigen::Vector4d g = Eigen::Vector4d::Zero();
+        for (int i = 0; i < ring_fill_; ++i) g += Phi_[i] * (Y_[i] - Phi_[i].dot(theta_));
+        theta_ += g / r_;
+      } else {
+        // RLS with forgetting: K = P phi / (lambda + phi^T P phi), P = (P - K phi^T P) / lambda.
+        const Eigen::Vector4d Pphi = P_ * phi;
+        const double denom = cfg_.rls_lambda + phi.dot(Pphi);
+        const Eigen::Vector4d K = Pphi / denom;
+        theta_ += K * (yf - phi.dot(theta_));
+        P_ = (P_ - K * Pphi.transpose()) / cfg_.rls_lambda;
+      }
+      ++updates_;
+      if (is_stable(theta_)) theta_sim_ = theta_;
+    }
+    if (am) {
+      // Auxiliary model x(t) = phi_a^T(t) theta(t), driven by the reference only (never by the noisy y);
+      // an unstable estimate would make it diverge, so it runs on the last stable one.
+      const double x = phi.dot(theta_sim_);
+      x2_ = x1_;
+      x1_ = x;
+    }
+  }
+  u4_ = u3_;
+  u3_ = u2_;
+  u2_ = u1_;
+  u1_ = uf;
+  y2_ = y1_;
+  y1_ = yf;
+  ++since_restart_;
+}
+
+void Identifier::oe_refresh() {
+  // theta(eta) by the exact ZOH map and its Jacobian by central differences (at 10 Hz, not per sample).
+  theta_ = theta_from_continuous(eta_(0), eta_(1), cfg_.T);
+  theta_sim_ = theta_;
+  const double hw = 1e-4 * eta_(0), hz = 1e-4 * eta_(1);
+  J_.col(0) = (theta_from_continuous(eta_(0) + hw, eta_(1), cfg_.T) -
+               theta_from_continuous(eta_(0) - hw, eta_(1), cfg_.T)) /
+              (2.0 * hw);
+  J_.col(1) = (theta_from_continuous(eta_(0), eta_(1) + hz, cfg_.T) -
+               theta_from_continuous(eta_(0), eta_(1) - hz, cfg_.T)) /
+              (2.0 * hz);
+}
+
+void Identifier::bank_step(double yf) {
+  // Every model of the bank simulated from the reference; residual variance with forgetting when excited.
+  const Eigen::ArrayXd x = -ba1_ * bx1_ - ba2_ * bx2_ + bb1_ * u1_ + bb2_ * u2_;
+  if (excited_ && since_restart_ >= settle_samples_) bV_ = cfg_.bank_lambda * bV_ + (yf - x).square();
+  bx2_ = bx1_;
+  bx1_ = x;
+}
+
+Theta Identifier::theta() const {
+  if (cfg_.method != Method::kBank) return theta_;
+  if (updates_ == 0) return theta0_;
+  // The best model, refined by a parabola through its neighbours on the same path (the healthy model is the
+  // alpha = 0 neighbour of every path).
+  Eigen::Index best;
+  bV_.minCoeff(&best);
+  const int n = std::max(1, cfg_.bank_steps);
+  const auto& sig = cfg_.signatures;
+  int path = bpath_[best];
+  int lo = -1, hi = -1;
+  if (path < 0) {
+    // Healthy: refine toward the path whose first model fits best.
+    int bp = 0;
+    for (int k = 1; k < static_cast<int>(sig.size()) - 1; ++k)
+      if (bV_(1 + k * n) < bV_(1 + bp * n)) bp = k;
+    path = bp;
+    hi = 1 + bp * n;
+  } else {
+    const int j = (static_cast<int>(best) - 1) % n;  // 0-based step on the path
+    lo = j == 0 ? 0 : static_cast<int>(best) - 1;
+    hi = j == n - 1 ? -1 : static_cast<int>(best) + 1;
+  }
+  const double h = 1.0 / n;
+  double alpha = balpha_[best];
+  if (hi >= 0) {
+    const double vm = lo >= 0 ? bV_(lo) : bV_(hi);  // mirror at alpha = 0: a parabola symmetric about 0
+    const double v0 = bV_(best), vp = bV_(hi);
+    const double curv = vp - 2.0 * v0 + vm;
+    if (curv > 0.0) alpha += std::clamp(0.5 * h * (vm - vp) / curv, -h, h);
+  }
+  alpha = std::clamp(alpha, 0.0, 1.0);
+  const double wn = (1.0 - alpha) * sig[0].omega_n + alpha * sig[path + 1].omega_n;
+  const double z = (1.0 - alpha) * sig[0].zeta + alpha * sig[path + 1].zeta;
+  return theta_from_continuous(wn, z, cfg_.T);
+}
+
+double Identifier::excitation() const {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> es(R_pe_.selfadjointView<Eigen::Lower>().toDenseMatrix(),
+                                                    Eigen::EigenvaluesOnly);
+  return es.eigenvalues()(0);
+}
+
+}  // namespace windfdi::pitch_diag

@@ -1,0 +1,116 @@
+// Per-blade identification kernel of seed 002 (Wu & Li): MIFG (eqs 16-19), RLS with forgetting, their
+// auxiliary-model (output-error) forms and a likelihood bank along the Table 1 fault paths; eq 20 gate.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "pitch_model.hpp"
+
+namespace windfdi::pitch_diag {
+
+/// Identification method. Paper modes regress on the measured output (equation error, eqs 9-10); the
+/// auxiliary-model modes regress on the model's own simulated output driven by the reference (output error),
+/// which stays unbiased with pitch noise (SEED_ERRATA 002).
+enum class Method {
+  kPaperMifg,  ///< eqs 16-19 on phi = [-y(t-1), -y(t-2), u(t-1), u(t-2)]
+  kPaperRls,   ///< recursive least squares with forgetting on the same regressor
+  kAmMifg,     ///< eqs 16-19 with y(t-i) in phi replaced by the auxiliary model output x(t-i)
+  kAmRls,      ///< RLS with forgetting on the auxiliary-model regressor (pseudo-linear: needs 1/A SPR)
+  kOeRls,      ///< output-error recursive prediction error in eta = (omega_n, zeta), unit DC gain:
+               ///< Gauss-Newton RLS on the AM regressor filtered by 1/A(q), mapped by d theta / d eta
+  kBank,       ///< residual variance of models along the Table 1 fault paths (grid in alpha, refined)
+};
+
+/// Canonical method names used in the configuration: paper_mifg, paper_rls, am_mifg, am_rls, oe_rls, bank.
+const char* method_name(Method m);
+/// Parses a method name; returns false for an unknown one.
+bool parse_method(const std::string& name, Method& out);
+
+struct IdentifierConfig {
+  Method method = Method::kBank;  ///< see Method; bank measured best (README.md)
+  double T = 0.01;                ///< s, sampling period (100 Hz)
+  double lambda = 0.97;           ///< MIFG forgetting factor of eq 17 (paper: 0.97), (0, 1)
+  int p = 8;                      ///< MIFG innovation length of eqs 18-19 (paper: 8), 1..64
+  double r0 = 1.0;                ///< MIFG r(0) of eq 17, > 0
+  double rls_lambda = 0.998;      ///< RLS forgetting factor (memory T / (1 - lambda) = 5 s), (0, 1)
+  double p0 = 1e-3;             ///< initial covariance: RLS p0 I (theta), oe_rls p0 diag(omega_n0^2, zeta0^2)
+  double highpass_hz = 0.02;    ///< Hz, level removal on u and y alike (first-order high-pass); 0: raw
+  double restart_settle = 1.0;  ///< s after a (re)start in which filters settle and nothing is identified
+  double omega_n0 = 11.11;      ///< rad/s, initial model (the healthy actuator)
+  double zeta0 = 0.6;           ///< initial damping ratio
+  double pe_window = 2.0;       ///< s, window of the eq 20 test: the estimator memory (bank: 2 s)
+  double pe_omega = 3.0;        ///< rad/s, scale of the difference basis of the eq 20 regressor
+  double pe_threshold = 0.02;   ///< deg^2, alpha of eq 20: smallest eigenvalue required; 0: always excited
+  double bank_lambda = 0.995;   ///< bank residual forgetting factor (memory 2 s)
+  int bank_steps = 10;          ///< bank models per fault path (alpha = 1/n .. 1)
+  std::vector<Signature> signatures = table1_signatures();  ///< bank paths ([0] healthy)
+};
+
+/// One blade: valid samples in, theta out. No clock: one call per sample of period T.
+class Identifier {
+ public:
+  explicit Identifier(const IdentifierConfig& config);
+
+  /// One valid sample: reference u(t) and measured pitch y(t) (deg).
+  void update(double u, double y);
+  /// The history is broken (lost or rejected samples): restart regressors and filters, keep theta.
+  void restart();
+  /// Back to the initial model as well.
+  void reset();
+
+  /// Current estimate (for the bank: the refined best model, computed on demand).
+  Theta theta() const;
+  ContinuousModel model() const { return continuous_from_theta(theta(), cfg_.T); }
+  /// Eq 20 held over the last window (the estimate is being updated); false: held.
+  bool excited() const { return excited_; }
+  /// Smallest eigenvalue of the eq 20 matrix (deg^2); computed on demand.
+  double excitation() const;
+  const IdentifierConfig& config() const { return cfg_; }
+  /// Samples identified since construction.
+  uint64_t updates() const { return updates_; }
+
+ private:
+  void identify(double uf, double yf);
+  void bank_step(double yf);
+
+  IdentifierConfig cfg_;
+  Theta theta0_;
+  double c_hp_;       // high-pass pole exp(-2 pi f_c T)
+  double lambda_pe_;  // eq 20 window as exponential forgetting
+  int settle_samples_;
+  // Filters and regressor history (after level removal).
+  bool started_ = false;
+  double u_raw1_ = 0.0, y_raw1_ = 0.0, uf_ = 0.0, yf_ = 0.0;
+  double u1_ = 0.0, u2_ = 0.0, u3_ = 0.0, u4_ = 0.0;  // u_f(t-1..t-4)
+  double y1_ = 0.0, y2_ = 0.0;                        // y_f(t-1), y_f(t-2)
+  double x1_ = 0.0, x2_ = 0.0;                        // auxiliary model output x(t-1), x(t-2)
+  Eigen::Vector4d psi1_, psi2_;                       // output-error gradient psi(t-1), psi(t-2)
+  Eigen::Vector2d eta_;                               // oe_rls: (omega_n, zeta)
+  Eigen::Matrix2d P2_;                                // oe_rls covariance
+  Eigen::Matrix<double, 4, 2> J_;                     // d theta / d eta at eta_ (refreshed at 10 Hz)
+  int oe_count_ = 0;
+  void oe_refresh();
+  int since_restart_ = 0;
+  // Estimators.
+  Theta theta_;
+  Theta theta_sim_;                   // last stable estimate: drives the auxiliary model
+  Eigen::Matrix4d P_;                 // RLS covariance
+  double r_;                          // MIFG eq 17
+  std::vector<Eigen::Vector4d> Phi_;  // eq 18 as a ring of the last p regressors
+  std::vector<double> Y_;             // eq 19 likewise
+  int ring_head_ = 0, ring_fill_ = 0;
+  // Eq 20 in a difference basis of the input: R = mean of psi psi^T over the window.
+  Eigen::Matrix4d R_pe_ = Eigen::Matrix4d::Zero();
+  double pe_scale_;  // 1 / (pe_omega T)
+  int pe_count_ = 0;
+  bool excited_ = false;
+  uint64_t updates_ = 0;
+  // Bank: structure of arrays (vectorised over the models).
+  Eigen::ArrayXd ba1_, ba2_, bb1_, bb2_, bx1_, bx2_, bV_;
+  std::vector<int> bpath_;      // path index of each model (-1 healthy)
+  std::vector<double> balpha_;  // alpha of each model
+};
+
+}  // namespace windfdi::pitch_diag

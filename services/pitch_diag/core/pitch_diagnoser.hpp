@@ -1,0 +1,126 @@
+// Per-turbine pitch-actuator diagnoser of seed 002 (Wu & Li): identification per blade (identifier.hpp), the
+// Table 1 classification with the fault indicator alpha of eqs 11-13, confirmation, hysteresis and events.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "frame_sample.hpp"
+#include "identifier.hpp"
+#include "pitch_model.hpp"
+#include "yaml_config.hpp"
+
+namespace windfdi::pitch_diag {
+
+struct PitchDiagConfig {
+  IdentifierConfig identifier;   ///< method, forgetting, level removal, eq 20 gate (identifier.hpp)
+  ClassifierConfig classifier;   ///< signatures and the weighing of omega_n against zeta
+  double estimate_period = 0.1;  ///< s between estimates and classification decisions (10 Hz)
+  double confirm_time = 3.0;     ///< s of excited data a fault class must hold before it is raised
+  double clear_time = 10.0;      ///< s of excited data below alpha_clear before a raised fault clears
+  double alpha_settle = 0.1;     ///< alpha must stay within this of its value when confirmation began
+                                 ///< (a converging estimate passing through another class is not it)
+  double alpha_clear = 0.15;     ///< alpha below which a raised fault counts as gone (< alpha_detect)
+  double fault_alpha = 0.6;      ///< alpha from which the severity is "fault" (below: "warning")
+  double abrupt_time = 10.0;     ///< s; the pump-wear point reached this fast from healthy: pump_wear,
+                                 ///< slower (a gradual drift along the shared path): hydraulic_leakage
+  double shared_alpha = 0.8;     ///< alpha on the shorter (pump-wear) path that counts as reaching its point
+  double pitch_min = -5.0;       ///< deg; pitch or reference below it is rejected
+  double pitch_max = 95.0;       ///< deg; above it is rejected
+};
+
+/// Loads the pitch_diag keys of `section` (unknown keys and out-of-range values are ConfigErrors).
+PitchDiagConfig load_pitch_diag_config(const YamlSection& section);
+
+/// One raised or cleared fault (plain struct; the node turns it into a FaultReport).
+struct PitchEvent {
+  double t = 0.0;           ///< s, time of this report
+  std::string component;    ///< pitch_actuator_1..3
+  std::string fault;        ///< pump_wear, hydraulic_leakage or high_air_content
+  bool raised = true;       ///< false: cleared
+  std::string severity;     ///< warning or fault
+  double t_detected = 0.0;  ///< s, when the class was first seen (start of the confirmation)
+  double statistic = 0.0;   ///< alpha (eqs 11-13) along the fault's path
+  double threshold = 0.0;   ///< alpha it was compared with (alpha_detect to raise, alpha_clear to clear)
+  double size = 0.0;        ///< alpha, 0 healthy .. 1 fully developed Table 1 fault
+  std::string detail;       ///< omega_n, zeta and any ambiguity, in words
+};
+
+/// The 10 Hz estimate (replay columns omega_n_1..3, zeta_1..3, class_1..3).
+struct PitchEstimate {
+  double t = 0.0;
+  std::array<double, kBlades> omega_n{};  ///< rad/s
+  std::array<double, kBlades> zeta{};
+  std::array<double, kBlades> alpha{};             ///< along the reported class's path, 0 for "none"
+  std::array<std::string, kBlades> fault_class{};  ///< "none" or a canonical pitch fault class
+  std::array<bool, kBlades> excited{};             ///< false: estimate held (eq 20 not met, or settling)
+  std::array<bool, kBlades> ambiguous{};           ///< a second fault path explains the dynamics as well
+  std::array<std::string, kBlades> alt_class{};    ///< that path ("" when not ambiguous)
+  std::array<double, kBlades> alt_alpha{};         ///< its alpha
+  std::array<bool, kBlades> valid{};               ///< false: the identified poles map to no (omega_n, zeta)
+};
+
+/// One blade: identification and its fault state machine.
+class BladeDiagnoser {
+ public:
+  BladeDiagnoser(const PitchDiagConfig& config, int blade);
+  /// One valid sample (u reference, y measured pitch, deg).
+  void update(double u, double y) { id_.update(u, y); }
+  void restart() { id_.restart(); }
+  /// A decision tick at time t (s): classification, confirmation and hysteresis.
+  void tick(double t, double dt, std::vector<PitchEvent>& events);
+
+  const Identifier& identifier() const { return id_; }
+  const Classification& classification() const { return cls_; }
+  const ContinuousModel& model() const { return model_; }
+  const std::string& raised() const { return raised_; }
+
+ private:
+  void emit(double t, const std::string& fault, bool raised, std::vector<PitchEvent>& events);
+
+  const PitchDiagConfig* cfg_;
+  std::string component_;
+  Identifier id_;
+  ContinuousModel model_;
+  Classification cls_;
+  std::string candidate_ = "none";
+  double pending_ = 0.0, candidate_since_ = 0.0, clear_pending_ = 0.0, candidate_alpha_ = 0.0;
+  std::string raised_;  // "" when nothing is raised
+  std::string raised_severity_;
+  double raised_detected_ = 0.0;
+  double last_healthy_t_ = 0.0;     // last tick the blade looked healthy (for the shared-path rule)
+  double shared_reached_t_ = -1.0;  // first tick after that at the pump-wear point
+};
+
+/// One turbine (three blades): samples in, estimates and events out. No clock, no threads.
+class PitchDiagnoser {
+ public:
+  explicit PitchDiagnoser(const PitchDiagConfig& config);
+
+  /// Feeds one sample. Invalid pitch/reference (mask, NaN, inf, outside pitch_min..pitch_max) is rejected and
+  /// counted, never fed, and restarts that blade's regressor; a sequence gap restarts all blades.
+  void update(const FrameSample& s, std::vector<PitchEvent>& events);
+  /// True once per estimate_period of sample time, with the estimate in `out`.
+  bool estimate_due(PitchEstimate& out);
+
+  uint64_t rejected(int blade) const { return rejected_[blade]; }
+  uint64_t rejected() const { return rejected_[0] + rejected_[1] + rejected_[2]; }
+  uint64_t gaps() const { return gaps_; }
+  const BladeDiagnoser& blade(int i) const { return blades_[i]; }
+  const PitchDiagConfig& config() const { return cfg_; }
+
+ private:
+  PitchDiagConfig cfg_;
+  std::vector<BladeDiagnoser> blades_;
+  std::array<uint64_t, kBlades> rejected_{};
+  uint64_t gaps_ = 0;
+  bool have_last_ = false;
+  uint64_t last_sequence_ = 0;
+  double next_tick_ = 0.0;
+  bool due_ = false;
+  PitchEstimate out_;
+};
+
+}  // namespace windfdi::pitch_diag

@@ -1,0 +1,86 @@
+// Synthetic above-rated pitch data for the seed 002 (Wu & Li) tests: a moving pitch reference and a
+// rate-limited second-order hydraulic actuator integrated finely (not the identifier's own ZOH model).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+namespace windfdi::pitch_diag::synth {
+
+struct SyntheticConfig {
+  double T = 0.01;                 ///< s, sampling period
+  double noise = 0.2;              ///< deg, standard deviation of the pitch measurement noise
+  double offset = 0.0;             ///< deg, constant pitch-sensor offset
+  double level_mean = 11.0;        ///< deg, mean operating pitch (above rated)
+  double level_amp = 9.0;          ///< deg, slow level swing: 2-20 deg
+  double level_period = 600.0;     ///< s, period of that swing
+  double turb_std = 1.5;           ///< deg, turbulence-driven variation (0.05-1 Hz)
+  double f_lo = 0.05, f_hi = 1.0;  ///< Hz, band of that variation
+  double rate_limit = 10.0;        ///< deg/s, actuator rate limit (plant: 10 deg/s)
+  uint64_t seed = 1;
+};
+
+/// One blade: reference(t) then step(u, omega_n, zeta); measure() gives y(t) before the step (ZOH on u).
+class SyntheticBlade {
+ public:
+  explicit SyntheticBlade(const SyntheticConfig& c) : c_(c), rng_(c.seed) {
+    // 32 sinusoids, log-uniform frequencies in the band, amplitude ~ f^-1/2 (power ~ 1/f), random phases.
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    double sum2 = 0.0;
+    for (int i = 0; i < 32; ++i) {
+      const double f = c_.f_lo * std::pow(c_.f_hi / c_.f_lo, U(rng_));
+      const double a = 1.0 / std::sqrt(f);
+      freq_.push_back(2.0 * M_PI * f);
+      amp_.push_back(a);
+      phase_.push_back(2.0 * M_PI * U(rng_));
+      sum2 += 0.5 * a * a;
+    }
+    for (double& a : amp_) a *= c_.turb_std / std::sqrt(sum2);
+    level_phase_ = 2.0 * M_PI * U(rng_);
+    angle_ = reference(0.0);
+  }
+
+  double reference(double t) const {
+    double u = c_.level_mean + c_.level_amp * std::sin(2.0 * M_PI * t / c_.level_period + level_phase_);
+    for (std::size_t i = 0; i < freq_.size(); ++i) u += amp_[i] * std::sin(freq_[i] * t + phase_[i]);
+    return std::clamp(u, 0.0, 90.0);
+  }
+
+  double measure() { return angle_ + c_.offset + c_.noise * normal_(rng_); }
+  double angle() const { return angle_; }
+
+  /// Advances one sampling period with u held (RK4, 10 substeps, rate limit as in the plant).
+  void step(double u, double omega_n, double zeta) {
+    const int n = 10;
+    const double h = c_.T / n, w2 = omega_n * omega_n, c2 = 2.0 * zeta * omega_n;
+    for (int k = 0; k < n; ++k) {
+      auto acc = [&](double b, double r) { return -c2 * r - w2 * (b - u); };
+      const double b0 = angle_, r0 = rate_;
+      const double k1b = r0, k1r = acc(b0, r0);
+      const double k2b = r0 + 0.5 * h * k1r, k2r = acc(b0 + 0.5 * h * k1b, k2b);
+      const double k3b = r0 + 0.5 * h * k2r, k3r = acc(b0 + 0.5 * h * k2b, k3b);
+      const double k4b = r0 + h * k3r, k4r = acc(b0 + h * k3b, k4b);
+      double b = b0 + h / 6.0 * (k1b + 2 * k2b + 2 * k3b + k4b);
+      double r = r0 + h / 6.0 * (k1r + 2 * k2r + 2 * k3r + k4r);
+      if (std::fabs(r) > c_.rate_limit) {
+        r = std::clamp(r, -c_.rate_limit, c_.rate_limit);
+        b = b0 + 0.5 * h * (r0 + r);
+      }
+      angle_ = b;
+      rate_ = r;
+    }
+  }
+
+ private:
+  SyntheticConfig c_;
+  std::mt19937_64 rng_;
+  std::normal_distribution<double> normal_{0.0, 1.0};
+  std::vector<double> freq_, amp_, phase_;
+  double level_phase_ = 0.0;
+  double angle_ = 0.0, rate_ = 0.0;
+};
+
+}  // namespace windfdi::pitch_diag::synth

@@ -1,0 +1,443 @@
+// pitch_diag core tests (seed 002, Wu & Li, MIFG pitch-actuator diagnosis): ZOH mapping, identification,
+// classification with alpha, the paper's p = 8 vs p = 1 claim, and the diagnoser on synthetic 0.2 deg data.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "identifier.hpp"
+#include "pitch_diagnoser.hpp"
+#include "pitch_model.hpp"
+#include "synthetic_pitch.hpp"
+
+using namespace windfdi;
+using namespace windfdi::pitch_diag;
+
+namespace {
+
+constexpr double kT = 0.01;
+
+const Signature& table1(const std::string& name) {
+  static const auto sig = table1_signatures();
+  for (const auto& s : sig)
+    if (s.name == name) return s;
+  return sig[0];
+}
+
+/// A turbine with three synthetic blades; `truth(t, blade)` gives (omega_n, zeta) of each actuator.
+struct Rig {
+  std::vector<synth::SyntheticBlade> blades;
+  PitchDiagnoser diag;
+  std::vector<PitchEvent> events;  // all events so far
+  PitchEstimate last;
+  uint64_t seq = 0;
+  double t = 0.0;
+
+  Rig(const PitchDiagConfig& cfg, double noise, uint64_t seed, double offset = 0.0) : diag(cfg) {
+    for (int i = 0; i < 3; ++i) {
+      synth::SyntheticConfig sc;
+      sc.noise = noise;
+      sc.seed = seed * 10 + i;
+      sc.offset = offset;
+      blades.emplace_back(sc);
+    }
+  }
+  using Truth = std::function<Signature(double t, int blade)>;
+  /// Runs until `t_end`; `edit` may change the sample before it is fed.
+  void run(double t_end, const Truth& truth, const std::function<void(FrameSample&)>& edit = nullptr) {
+    FrameSample s;
+    std::vector<PitchEvent> ev;
+    while (t < t_end - 1e-9) {
+      s.sequence = seq++;
+      s.t = t;
+      for (int i = 0; i < 3; ++i) {
+        s.pitch_ref[i] = blades[i].reference(t);
+        s.pitch[i] = blades[i].measure();
+      }
+      const FrameSample clean = s;
+      if (edit) edit(s);
+      ev.clear();
+      diag.update(s, ev);
+      events.insert(events.end(), ev.begin(), ev.end());
+      diag.estimate_due(last);
+      for (int i = 0; i < 3; ++i) {
+        const Signature g = truth(t, i);
+        // The actuator follows the reference the diagnoser sees (unless that is invalid).
+        const double u = std::isfinite(s.pitch_ref[i]) ? s.pitch_ref[i] : clean.pitch_ref[i];
+        blades[i].step(u, g.omega_n, g.zeta);
+      }
+      t = std::round((t + kT) * 1e6) / 1e6;
+    }
+  }
+};
+
+Signature healthy(double, int) { return table1("none"); }
+
+// ---------------------------------------------------------------------------------------------------------
+// ZOH mapping
+
+TEST(PitchModel, ThetaRoundTripForEveryTable1Row) {
+  for (const auto& sig : table1_signatures()) {
+    // GIVEN a Table 1 row; WHEN mapped to theta by the exact ZOH and back through the poles
+    const Theta theta = theta_from_continuous(sig.omega_n, sig.zeta, kT);
+    const ContinuousModel m = continuous_from_theta(theta, kT);
+    // THEN omega_n and zeta come back to 1e-9 relative, and the DC gain is 1 (eqs 7-9 would give 100)
+    ASSERT_TRUE(m.valid) << sig.name;
+    EXPECT_NEAR(m.omega_n, sig.omega_n, 1e-9 * sig.omega_n) << sig.name;
+    EXPECT_NEAR(m.zeta, sig.zeta, 1e-9) << sig.name;
+    EXPECT_NEAR(m.gain, 1.0, 1e-9) << sig.name;
+  }
+}
+
+TEST(PitchModel, RoundTripForRealPolePairs) {
+  // GIVEN critically damped and overdamped actuators (real pole pairs)
+  for (double zeta : {1.0, 1.0 + 1e-9, 1.3, 2.5}) {
+    const Theta theta = theta_from_continuous(5.0, zeta, kT);
+    const ContinuousModel m = continuous_from_theta(theta, kT);
+    // THEN the mapping still inverts (1e-6: near zeta = 1 the poles are a double root)
+    ASSERT_TRUE(m.valid) << zeta;
+    EXPECT_NEAR(m.omega_n, 5.0, 1e-6 * 5.0) << zeta;
+    EXPECT_NEAR(m.zeta, zeta, 1e-6) << zeta;
+  }
+}
+
+TEST(PitchModel, ZohModelReproducesTheContinuousStepResponse) {
+  // GIVEN the healthy actuator integrated finely (RK4, 10 substeps) and its ZOH theta, from rest
+  synth::SyntheticConfig sc;
+  sc.noise = 0.0;
+  sc.turb_std = 0.0;
+  sc.level_amp = 0.0;
+  sc.level_mean = 0.0;
+  sc.rate_limit = 1e9;
+  synth::SyntheticBlade blade(sc);
+  const auto& h = table1("none");
+  const Theta th = theta_from_continuous(h.omega_n, h.zeta, kT);
+  double y1 = 0, y2 = 0, u1 = 0, u2 = 0, peak = 0;
+  for (int k = 0; k < 300; ++k) {
+    const double u = 1.0;  // unit step at t = 0
+    const double y = -th(0) * y1 - th(1) * y2 + th(2) * u1 + th(3) * u2;
+    // THEN both agree to 1e-7 deg at every sample (RK4 error only) ...
+    ASSERT_NEAR(y, blade.angle(), 1e-7) << k;
+    peak = std::max(peak, y);
+    blade.step(u, h.omega_n, h.zeta);
+    y2 = y1, y1 = y, u2 = u1, u1 = u;
+  }
+  // ... and the overshoot is the analytic exp(-pi zeta / sqrt(1 - zeta^2)) = 9.48 % (sampling: within 0.1 %)
+  EXPECT_NEAR(peak - 1.0, std::exp(-M_PI * 0.6 / 0.8), 1e-3);
+}
+
+TEST(PitchModel, ClassifyGivesAlphaAlongEachPath) {
+  ClassifierConfig c;
+  // GIVEN points at alpha = 0.6 on the high-air-content path and at the Table 1 signatures
+  const auto& h = table1("none");
+  const auto& ha = table1("high_air_content");
+  Classification k =
+      classify(h.omega_n + 0.6 * (ha.omega_n - h.omega_n), h.zeta + 0.6 * (ha.zeta - h.zeta), c);
+  // THEN the class and alpha come back (1e-9), unambiguously
+  EXPECT_EQ(k.fault_class, "high_air_content");
+  EXPECT_NEAR(k.alpha, 0.6, 1e-9);
+  EXPECT_FALSE(k.ambiguous);
+  // AND the pump-wear point is also hydraulic leakage at alpha 0.50: both paths are reported
+  const auto& pw = table1("pump_wear");
+  k = classify(pw.omega_n, pw.zeta, c);
+  ASSERT_TRUE(k.ambiguous);
+  EXPECT_NEAR(k.path_alpha[0], 1.0, 1e-3);     // pump_wear
+  EXPECT_NEAR(k.path_alpha[1], 0.4994, 1e-3);  // hydraulic_leakage: (11.11 - 7.27) / (11.11 - 3.42)
+  // AND the healthy point is "none"
+  EXPECT_EQ(classify(h.omega_n, h.zeta, c).fault_class, "none");
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Identification
+
+double converged_error(Method m, double omega_n, double zeta, double noise, double& zeta_err) {
+  synth::SyntheticConfig sc;
+  sc.noise = noise;
+  sc.seed = 5;
+  synth::SyntheticBlade b(sc);
+  IdentifierConfig ic;
+  ic.method = m;
+  Identifier id(ic);
+  for (int k = 0; k < 6000; ++k) {
+    const double u = b.reference(k * kT);
+    id.update(u, b.measure());
+    b.step(u, omega_n, zeta);
+  }
+  const ContinuousModel cm = id.model();
+  zeta_err = cm.valid ? std::abs(cm.zeta / zeta - 1.0) : 1e9;
+  return cm.valid ? std::abs(cm.omega_n / omega_n - 1.0) : 1e9;
+}
+
+TEST(Identifier, DefaultModeConvergesNoiseFreeToTheTrueModel) {
+  // GIVEN noise-free data of each Table 1 row and of points between them; WHEN the default (bank) runs 60 s
+  const auto& h = table1("none");
+  for (const auto& f : table1_signatures())
+    for (double alpha : {0.35, 1.0}) {
+      const double wn = h.omega_n + alpha * (f.omega_n - h.omega_n), z = h.zeta + alpha * (f.zeta - h.zeta);
+      double ez;
+      const double ew = converged_error(IdentifierConfig{}.method, wn, z, 0.0, ez);
+      // THEN omega_n and zeta are within 1 %
+      EXPECT_LT(ew, 0.01) << f.name << " alpha " << alpha;
+      EXPECT_LT(ez, 0.01) << f.name << " alpha " << alpha;
+    }
+}
+
+TEST(Identifier, OutputErrorModeConvergesOffThePaths) {
+  // GIVEN noise-free data of an actuator on no fault path (9 rad/s, 0.7); WHEN oe_rls runs 60 s
+  double ez;
+  const double ew = converged_error(Method::kOeRls, 9.0, 0.7, 0.0, ez);
+  // THEN it finds it within 1 % (the bank only knows its paths: this mode reports general dynamics)
+  EXPECT_LT(ew, 0.01);
+  EXPECT_LT(ez, 0.01);
+}
+
+TEST(Identifier, PaperModeFailsAtPitchNoiseAndDefaultDoesNot) {
+  // GIVEN hydraulic leakage with 0.2 deg pitch noise (SEED_ERRATA 002)
+  const auto& hl = table1("hydraulic_leakage");
+  double ez_paper, ez_bank;
+  const double ew_paper = converged_error(Method::kPaperRls, hl.omega_n, hl.zeta, 0.2, ez_paper);
+  const double ew_bank = converged_error(Method::kBank, hl.omega_n, hl.zeta, 0.2, ez_bank);
+  // THEN equation-error RLS is off by more than 50 % (or maps to no pole pair), the default within 5 %
+  EXPECT_GT(ew_paper, 0.5);
+  EXPECT_LT(ew_bank, 0.05);
+  EXPECT_LT(ez_bank, 0.05);
+}
+
+TEST(Identifier, PaperMifgLongerInnovationConvergesFaster) {
+  // GIVEN the paper's setting: eq 10 regressor on the raw pitch (no level removal), lambda 0.97, noise-free,
+  // the estimator starting at the healthy model while the actuator has pump wear (eq 31's alpha = 1)
+  const Theta truth = theta_from_continuous(7.27, 0.75, kT);
+  auto reduction = [&](int p) {
+    synth::SyntheticConfig sc;
+    sc.noise = 0.0;
+    sc.seed = 3;
+    synth::SyntheticBlade b(sc);
+    IdentifierConfig ic;
+    ic.method = Method::kPaperMifg;
+    ic.p = p;
+    ic.lambda = 0.97;
+    ic.highpass_hz = 0.0;
+    ic.pe_threshold = 0.0;
+    Identifier id(ic);
+    const double e0 = (id.theta() - truth).norm();
+    for (int k = 0; k < 100000; ++k) {  // 1000 s
+      const double u = b.reference(k * kT);
+      id.update(u, b.measure());
+      b.step(u, 7.27, 0.75);
+    }
+    return 1.0 - (id.theta() - truth).norm() / e0;
+  };
+  const double r1 = reduction(1), r8 = reduction(8);
+  // THEN p = 8 removes more of the initial error than p = 1 (Figs 7-9): measured 2.3 % vs 1.6 %, so > 1.2x
+  // ...
+  EXPECT_GT(r8, 1.2 * r1);
+  // ... but both remove under 10 % in 1000 s: the raw regressor is dominated by the pitch level (errata)
+  EXPECT_LT(r8, 0.1);
+  EXPECT_GT(r1, 0.0);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Diagnoser on synthetic 0.2 deg data
+
+TEST(PitchDiagnoser, EveryFaultOnEveryBladeIsClassifiedWithin10s) {
+  for (const char* fault : {"pump_wear", "hydraulic_leakage", "high_air_content"})
+    for (int blade = 0; blade < 3; ++blade) {
+      // GIVEN 0.2 deg pitch noise and an abrupt Table 1 fault on one blade at t = 40 s
+      Rig rig(PitchDiagConfig{}, 0.2, 300 + blade);
+      const double t_on = 40.0;
+      rig.run(t_on + 12.0,
+              [&](double t, int b) { return b == blade && t >= t_on ? table1(fault) : table1("none"); });
+      // THEN exactly one event: that fault raised on that blade's actuator within 10 s of the onset
+      ASSERT_EQ(rig.events.size(), 1u)
+          << fault << " blade " << blade << (rig.events.empty() ? "" : " first: " + rig.events[0].fault);
+      const auto& e = rig.events[0];
+      EXPECT_EQ(e.component, "pitch_actuator_" + std::to_string(blade + 1));
+      EXPECT_EQ(e.fault, fault);
+      EXPECT_TRUE(e.raised);
+      EXPECT_GT(e.t, t_on);
+      EXPECT_LE(e.t - t_on, 10.0) << fault << " blade " << blade;
+      EXPECT_GT(e.size, 0.8);  // alpha of a fully developed fault (1 +- 0.2)
+      EXPECT_EQ(rig.last.fault_class[blade], fault);
+    }
+}
+
+TEST(PitchDiagnoser, HalfDevelopedLeakageIsReportedWithItsAlphaNotAsPumpWear) {
+  // GIVEN a hydraulic leakage developing gradually on blade 2 to alpha 0.5 over 120 s (eq 12), 0.2 deg noise;
+  // at alpha 0.5 its dynamics are those of full pump wear (Table 1)
+  Rig rig(PitchDiagConfig{}, 0.2, 41);
+  const auto& h = table1("none");
+  const auto& hl = table1("hydraulic_leakage");
+  rig.run(200.0, [&](double t, int b) {
+    if (b != 1 || t < 30.0) return h;
+    const double alpha = std::min(0.5, 0.5 * (t - 30.0) / 120.0);
+    return Signature{"", h.omega_n + alpha * (hl.omega_n - h.omega_n), h.zeta + alpha * (hl.zeta - h.zeta)};
+  });
+  // THEN the estimate says hydraulic leakage at alpha 0.5 +- 0.1, and says that it is ambiguous with pump
+  // wear
+  EXPECT_EQ(rig.last.fault_class[1], "hydraulic_leakage");
+  EXPECT_NEAR(rig.last.alpha[1], 0.5, 0.1);
+  EXPECT_TRUE(rig.last.ambiguous[1]);
+  EXPECT_EQ(rig.last.alt_class[1], "pump_wear");
+  // AND no event ever says pump wear; the leakage is raised (warning, then fault is not reached at 0.5 < 0.6)
+  bool leakage = false;
+  for (const auto& e : rig.events) {
+    EXPECT_NE(e.fault, "pump_wear") << "t " << e.t;
+    EXPECT_EQ(e.component, "pitch_actuator_2");
+    if (e.raised && e.fault == "hydraulic_leakage") {
+      leakage = true;
+      EXPECT_NE(e.detail.find("pump_wear"), std::string::npos) << e.detail;
+    }
+  }
+  EXPECT_TRUE(leakage);
+  // AND the other blades stay "none"
+  EXPECT_EQ(rig.last.fault_class[0], "none");
+  EXPECT_EQ(rig.last.fault_class[2], "none");
+}
+
+TEST(PitchDiagnoser, HealthyHourRaisesNothing) {
+  // GIVEN one hour of healthy actuators at 100 Hz with 0.2 deg noise
+  Rig rig(PitchDiagConfig{}, 0.2, 77);
+  rig.run(3600.0, healthy);
+  // THEN no event, and the estimates are healthy within 5 % at the end
+  EXPECT_TRUE(rig.events.empty()) << rig.events.size() << " events, first " << rig.events[0].fault << " at "
+                                  << rig.events[0].t;
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(rig.last.fault_class[i], "none");
+    EXPECT_NEAR(rig.last.omega_n[i], 11.11, 0.05 * 11.11);
+  }
+}
+
+TEST(PitchDiagnoser, ConstantSensorOffsetRaisesNothing) {
+  // GIVEN a +3 deg pitch-sensor offset on every blade from the start, and a +2 deg step offset appearing on
+  // blade 3 at t = 60 s (seed 001's pitch sensor bias), healthy actuators, 0.2 deg noise
+  Rig rig(PitchDiagConfig{}, 0.2, 55, 3.0);
+  rig.run(300.0, healthy, [&](FrameSample& s) {
+    if (s.t >= 60.0) s.pitch[2] += 2.0;
+  });
+  // THEN nothing is raised: the level removal takes the offset out, it is no actuator fault
+  EXPECT_TRUE(rig.events.empty()) << rig.events[0].fault << " on " << rig.events[0].component;
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(rig.last.fault_class[i], "none");
+}
+
+TEST(PitchDiagnoser, BadSamplesAreCountedAndDoNotChangeTheEstimate) {
+  Rig rig(PitchDiagConfig{}, 0.2, 9);
+  rig.run(30.0, healthy);
+  const Theta before = rig.diag.blade(0).identifier().theta();
+  // GIVEN 5 NaN pitch samples, 3 infinite references and 2 out-of-range (96 deg) pitches on blade 1
+  int k = 0;
+  rig.run(30.1, healthy, [&](FrameSample& s) {
+    if (k < 5)
+      s.pitch[0] = kNaN;
+    else if (k < 8)
+      s.pitch_ref[0] = INFINITY;
+    else if (k < 10)
+      s.pitch[0] = 96.0;
+    ++k;
+  });
+  // THEN all 10 are counted, only on blade 1, and the estimate did not move (exactly)
+  EXPECT_EQ(rig.diag.rejected(0), 10u);
+  EXPECT_EQ(rig.diag.rejected(1), 0u);
+  EXPECT_EQ(rig.diag.rejected(), 10u);
+  EXPECT_EQ(rig.diag.blade(0).identifier().theta(), before);
+  // AND identification resumes afterwards without an event
+  rig.run(60.0, healthy);
+  EXPECT_TRUE(rig.events.empty());
+  EXPECT_EQ(rig.last.fault_class[0], "none");
+}
+
+TEST(PitchDiagnoser, SequenceGapRestartsTheRegressor) {
+  Rig rig(PitchDiagConfig{}, 0.2, 13);
+  rig.run(20.0, healthy);
+  // GIVEN 50 lost samples (the sequence jumps)
+  rig.seq += 50;
+  rig.run(60.0, healthy);
+  // THEN the gap is counted once and nothing is raised
+  EXPECT_EQ(rig.diag.gaps(), 1u);
+  EXPECT_TRUE(rig.events.empty());
+}
+
+TEST(PitchDiagnoser, LowExcitationHoldsTheEstimateFlagged) {
+  // GIVEN an identified high-air-content fault on blade 1 ...
+  PitchDiagConfig cfg;
+  Rig rig(cfg, 0.2, 21);
+  const auto fault = [](double, int b) { return b == 0 ? table1("high_air_content") : table1("none"); };
+  rig.run(40.0, fault);
+  ASSERT_TRUE(rig.last.excited[0]);
+  ASSERT_EQ(rig.last.fault_class[0], "high_air_content");
+  // WHEN the reference then stands still at 12 deg (no turbulence: only the measured noise moves)
+  const auto still = [](FrameSample& s) {
+    for (int i = 0; i < 3; ++i) s.pitch_ref[i] = 12.0;
+  };
+  rig.run(70.0, fault, still);
+  // THEN after the eq 20 window the blades are flagged not excited ...
+  EXPECT_FALSE(rig.last.excited[0]);
+  EXPECT_FALSE(rig.last.excited[1]);
+  const double held = rig.last.omega_n[0];
+  // ... and the estimate is held exactly while it stays so, still high air content, with no event
+  rig.run(150.0, fault, still);
+  EXPECT_FALSE(rig.last.excited[0]);
+  EXPECT_EQ(rig.last.omega_n[0], held);
+  EXPECT_EQ(rig.last.fault_class[0], "high_air_content");
+  EXPECT_NEAR(held, 5.73, 0.05 * 5.73);
+}
+
+TEST(PitchDiagnoser, RaisesAfterConfirmationAndClearsWithHysteresis) {
+  // GIVEN pump wear on blade 3 from 30 s to 60 s, then healthy again
+  PitchDiagConfig cfg;
+  Rig rig(cfg, 0.2, 33);
+  const auto truth = [](double t, int b) {
+    return b == 2 && t >= 30.0 && t < 60.0 ? table1("pump_wear") : table1("none");
+  };
+  rig.run(60.0, truth);
+  // THEN pump wear is raised (after confirm_time of settled data) ...
+  ASSERT_EQ(rig.events.size(), 1u);
+  EXPECT_EQ(rig.events[0].fault, "pump_wear");
+  EXPECT_GE(rig.events[0].t - rig.events[0].t_detected, cfg.confirm_time - 1e-9);
+  // ... still raised until clear_time has passed below alpha_clear ...
+  rig.run(60.0 + cfg.clear_time, truth);
+  EXPECT_EQ(rig.events.size(), 1u);
+  // ... and cleared within clear_time + 10 s of the repair
+  rig.run(60.0 + cfg.clear_time + 10.0, truth);
+  ASSERT_EQ(rig.events.size(), 2u);
+  EXPECT_FALSE(rig.events[1].raised);
+  EXPECT_EQ(rig.events[1].fault, "pump_wear");
+  EXPECT_EQ(rig.events[1].component, "pitch_actuator_3");
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Configuration
+
+YamlSection yaml(const std::string& text) { return YamlSection(YAML::Load(text), "test.yaml"); }
+
+TEST(PitchDiagConfig, DefaultsAndShippedFileLoad) {
+  // GIVEN an empty section THEN the defaults: bank, lambda 0.97, p 8, Table 1
+  const PitchDiagConfig c = load_pitch_diag_config(yaml("{}"));
+  EXPECT_EQ(c.identifier.method, Method::kBank);
+  EXPECT_EQ(c.identifier.p, 8);
+  EXPECT_DOUBLE_EQ(c.identifier.lambda, 0.97);
+  EXPECT_EQ(c.classifier.signatures.size(), 4u);
+  // AND the shipped deploy/config/pitch_diag.yaml loads and equals the defaults where it restates them
+  const PitchDiagConfig f = load_pitch_diag_config(YamlSection::load_file(PITCH_DIAG_YAML));
+  EXPECT_EQ(f.identifier.method, c.identifier.method);
+  EXPECT_DOUBLE_EQ(f.identifier.bank_lambda, c.identifier.bank_lambda);
+  EXPECT_DOUBLE_EQ(f.confirm_time, c.confirm_time);
+  EXPECT_EQ(f.classifier.signatures[2].name, "hydraulic_leakage");
+}
+
+TEST(PitchDiagConfig, RejectsUnknownKeysAndOutOfRangeValues) {
+  // GIVEN a typo, a value out of range, a bad method and a bad signature list THEN each is a ConfigError
+  EXPECT_THROW(load_pitch_diag_config(yaml("confirm_tme: 3")), ConfigError);
+  EXPECT_THROW(load_pitch_diag_config(yaml("lambda: 1.5")), ConfigError);
+  EXPECT_THROW(load_pitch_diag_config(yaml("p: 2.5")), ConfigError);
+  EXPECT_THROW(load_pitch_diag_config(yaml("method: kalman")), ConfigError);
+  EXPECT_THROW(load_pitch_diag_config(yaml("signatures: [{name: pump_wear, omega_n: 7, zeta: 0.7}]")),
+               ConfigError);
+  EXPECT_THROW(load_pitch_diag_config(yaml("signatures: [{name: none, omega_n: 11, zeta: 0.6, x: 1}]")),
+               ConfigError);
+  // AND a valid override is taken
+  EXPECT_EQ(load_pitch_diag_config(yaml("method: paper_mifg\np: 16")).identifier.p, 16);
+}
+
+}  // namespace
