@@ -75,6 +75,10 @@ struct TurbineRun {
   double config_received = -1.0;  // wall time of the last configuration, < 0: none yet
   uint64_t config_revision = 0;
   std::string arbiter;
+  // The writer of the applied configuration while its liveliness holds: the lease runs only once it is lost
+  // or silent, so a configuration sample delayed under load cannot end a live arbiter's configuration.
+  eprosima::fastrtps::rtps::InstanceHandle_t config_writer;
+  bool config_writer_alive = false;
   double corrected_generator_speed = kNaN, corrected_at = -1.0;
   uint64_t lidar_sequence = 0;
   std::vector<int> fault_column;  // per own fault: index into the recording's fault columns
@@ -142,6 +146,7 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
   double last_progress = wall_start;
   std::vector<double> values;
   std::vector<windfdi::ControlConfiguration> configs;
+  std::vector<bus::SampleMeta> config_meta;
   std::vector<windfdi::SensorBiasEstimate> biases;
   uint64_t write_failures = 0;
   for (uint64_t k = 0; k < n_samples && !shutdown_requested(); ++k) {
@@ -155,11 +160,15 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
     const double now = wall_time();
     if (dds) {
       configs.clear();
-      dds->configs.take(configs);
-      for (const auto& c : configs) {
+      config_meta.clear();
+      dds->configs.take(configs, &config_meta);
+      for (std::size_t i = 0; i < configs.size(); ++i) {
+        const auto& c = configs[i];
         auto it = runs.find(c.turbine_id());
         if (it == runs.end()) continue;
         TurbineRun& r = it->second;
+        r.config_writer = config_meta[i].writer;
+        r.config_writer_alive = true;
         if (c.revision() != r.config_revision || c.arbiter_id() != r.arbiter)
           spdlog::info("{}: applying configuration r{} from {}: mode {}, ipc {}", c.turbine_id(), c.revision(),
                        c.arbiter_id(), static_cast<int>(c.mode()), static_cast<int>(c.ipc_source()));
@@ -168,6 +177,9 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
         r.config_revision = c.revision();
         r.arbiter = c.arbiter_id();
       }
+      for (const auto& ev : dds->configs.take_liveliness_events())
+        for (auto& [id, r] : runs)
+          if (r.config_writer == ev.writer) r.config_writer_alive = ev.alive;
       biases.clear();
       dds->bias.take(biases);
       for (const auto& b : biases) {
@@ -179,7 +191,9 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
     }
     for (const auto& id : ids) {
       TurbineRun& r = runs[id];
-      // The arbiter's configuration holds for a lease; then the defaults, but a safe stop stays stopped.
+      // The arbiter's configuration holds while its writer is alive and for a lease after that; then the
+      // defaults, but a safe stop stays stopped.
+      if (r.config_writer_alive && r.config_received >= 0.0) r.config_received = now;
       if (r.config_received >= 0.0 && now - r.config_received > o.config_lease) {
         const bool stopped = r.input.mode == OperatingMode::kSafeStop;
         spdlog::warn("{}: no configuration for {:.1f} s (arbiter lost): back to defaults{}", id, o.config_lease,
