@@ -11,7 +11,8 @@ int main(int argc, char** argv) {
   plant::PlantOptions o;
   std::string rate = "realtime";
   app.add_option("--scenario", o.scenario, "scenario YAML (see deploy/scenarios/)")->required();
-  app.add_option("--rate", rate, "realtime, max, or a speed-up factor")->capture_default_str();
+  auto* rate_option =
+      app.add_option("--rate", rate, "realtime, max, or a speed-up factor (default: realtime, max with --offline)");
   app.add_flag("--offline", o.offline, "no DDS: simulate and record only");
   app.add_option("--record", o.record, "write the replay CSV (.gz to compress)");
   app.add_flag("--record-truth", o.record_truth, "add true values and active faults to the recording");
@@ -21,7 +22,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--progress", o.progress_period, "seconds between progress lines (0: none)")->capture_default_str();
   return run_main(app, argc, argv, common, [&] {
-    o.rate = plant::parse_rate(rate);
+    // Offline nothing waits for the simulation, so it runs as fast as it can unless told otherwise.
+    o.rate = plant::parse_rate(o.offline && rate_option->count() == 0 ? "max" : rate);
     return plant::run_plant(common, o);
   });
 }

@@ -133,6 +133,9 @@ int configs(const CommonOptions& common, double timeout) {
       std::cout << nlohmann::json{{"received_at", wall_time()}, {"turbine_id", c.turbine_id()},
                                   {"arbiter_id", c.arbiter_id()}, {"revision", c.revision()},
                                   {"mode", static_cast<int>(c.mode())}, {"ipc_source", static_cast<int>(c.ipc_source())},
+                                  {"ice_mode", static_cast<int>(c.ice_mode())},
+                                  {"pitch_rate_limit", c.pitch_rate_limit()},
+                                  {"use_corrected_generator_speed", c.use_corrected_generator_speed()},
                                   {"reasons", c.reasons().size()}}
                        .dump()
                 << std::endl;

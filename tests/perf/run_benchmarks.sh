@@ -7,6 +7,8 @@ for b in "$bin"/bench_*; do
   echo "== $(basename "$b")"
   "$b" --benchmark_counters_tabular=true
 done
+echo "== pitch_diag_plant"
+"$bin/pitch_diag_plant" 3600
 echo "== ipc_value"
 "$bin/ipc_value" 5 3
 echo "== plant_farm_cpu"
