@@ -273,6 +273,57 @@ INSTANTIATE_TEST_SUITE_P(
                   }}),
     [](const auto& i) { return std::string(i.param.name); });
 
+// A component fault against the same plant without it (same seed, no noise): identical before the start,
+// the fault's own size at its first sample, and an effect while it lasts.
+struct Pair {
+  std::vector<FrameSample> healthy, faulty;
+};
+Pair run_pair(const FaultSpec& f, int samples) {
+  TurbineSim a(TurbineParams{}, steady(14.0, 0.2, 0.1), {}, 9, 100.0, ControllerParams{}, no_noise());
+  TurbineSim b(TurbineParams{}, steady(14.0, 0.2, 0.1), {f}, 9, 100.0, ControllerParams{}, no_noise());
+  Pair p;
+  for (int k = 0; k < samples; ++k) {
+    p.healthy.push_back(a.step());
+    p.faulty.push_back(b.step());
+  }
+  return p;
+}
+
+TEST(ComponentFault, ConverterTorqueOffsetAddsItsValueFromItsStart) {
+  // GIVEN a 100 N m converter torque offset during [10 s, 20 s) (the benchmark's fault 8)
+  FaultSpec f;
+  f.turbine = "WT01";
+  f.target = "converter";
+  f.type = "torque_offset";
+  f.value = 100.0;
+  f.has_value = true;
+  f.start = 10.0;
+  f.end = 20.0;
+  const Pair p = run_pair(f, 2500);
+  // THEN nothing differs before 10 s, the measured torque is 100 N m higher at 10 s exactly
+  for (int k = 0; k < 1000; ++k) ASSERT_EQ(p.faulty[k].gen_torque, p.healthy[k].gen_torque) << k;
+  EXPECT_NEAR(p.faulty[1000].gen_torque - p.healthy[1000].gen_torque, 100.0, 1e-6);
+  // AND the extra torque slows the generator while it lasts
+  EXPECT_LT(p.faulty[1999].generator_speed, p.healthy[1999].generator_speed);
+}
+
+TEST(ComponentFault, DriveTrainEfficiencyDropChangesTheGeneratorFromItsStart) {
+  // GIVEN the drive-train efficiency 0.97 -> 0.92 during [10 s, 20 s) (the benchmark's fault 9)
+  FaultSpec f;
+  f.turbine = "WT01";
+  f.target = "drive_train";
+  f.type = "efficiency";
+  f.value = 0.92;
+  f.has_value = true;
+  f.start = 10.0;
+  f.end = 20.0;
+  const Pair p = run_pair(f, 2500);
+  // THEN nothing differs before 10 s
+  for (int k = 0; k < 1000; ++k) ASSERT_EQ(p.faulty[k].generator_speed, p.healthy[k].generator_speed) << k;
+  // AND less torque reaches the generator: it runs slower within the fault
+  EXPECT_LT(p.faulty[1100].generator_speed, p.healthy[1100].generator_speed - 1e-3);
+}
+
 TEST(Ice, AccretionRaisesInertiaAndSheddingDropsItAtOnce) {
   FaultSpec acc, shed;
   acc.turbine = shed.turbine = "WT01";
