@@ -11,7 +11,7 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
   s.require_known_keys({"window", "reinit_period", "filter_time", "min_excitation", "power_gain", "friction",
                         "clean_inertia", "learn_time", "median_estimates", "ice_radius", "warning_mass",
                         "fault_mass", "critical_mass", "confirm_time", "clear_time", "clear_ratio", "shed_window",
-                        "shed_reinit", "shed_median", "shed_confirm", "shed_fraction", "shed_min_ice", "shed_hold",
+                        "shed_reinit", "shed_min_excitation", "shed_median", "shed_confirm", "shed_fraction", "shed_min_ice", "shed_hold",
                         "min_generator_speed", "min_gen_torque", "max_pitch", "turbine_file"});
   DetectorConfig c;
   c.ice_radius = turbine.ice_radius;
@@ -38,6 +38,7 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
   c.clear_ratio = s.get_number("clear_ratio", c.clear_ratio, 0.0, 1.0);
   c.shed_window = s.get_number("shed_window", c.shed_window, 1.0, 3600.0);
   c.shed_reinit = s.get_number("shed_reinit", c.shed_reinit, 0.5, 3600.0);
+  c.shed_min_excitation = s.get_number("shed_min_excitation", c.shed_min_excitation, 0.0, 100.0);
   c.shed_median = s.get_number("shed_median", c.shed_median, 1.0, 600.0);
   c.shed_confirm = s.get_number("shed_confirm", c.shed_confirm, 0.0, 600.0);
   c.shed_fraction = s.get_number("shed_fraction", c.shed_fraction, 0.001, 0.5);
@@ -57,6 +58,7 @@ IceDetector::IceDetector(const DetectorConfig& config, const TurbineParams& turb
         EstimatorConfig f = config.estimator;
         f.window = config.shed_window;
         f.reinit_period = config.shed_reinit;
+        f.min_excitation = config.shed_min_excitation;
         return f;
       }()),
       j0_(config.clean_inertia > 0.0 ? config.clean_inertia : turbine.lumped_inertia()) {}

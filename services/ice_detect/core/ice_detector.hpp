@@ -28,6 +28,7 @@ struct DetectorConfig {
   double clear_ratio = 0.7;         ///< a level clears below this share of its threshold (hysteresis)
   double shed_window = 45.0;        ///< s, window of the fast estimator that watches for shedding
   double shed_reinit = 10.0;        ///< s between its initialisation events
+  double shed_min_excitation = 0.5; ///< rad/s, excitation the fast estimator needs (its estimates are noisier)
   double shed_median = 15;          ///< 1 Hz fast estimates in its running median
   double shed_confirm = 30.0;       ///< s the drop must hold
   double shed_fraction = 0.025;     ///< drop of the fast estimate below the slow one, share of J0, for ice_shedding
