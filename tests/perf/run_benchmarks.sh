@@ -9,6 +9,8 @@ for b in "$bin"/bench_*; do
 done
 echo "== pitch_diag_plant"
 "$bin/pitch_diag_plant" 3600
+echo "== ice_detect_plant"
+"$bin/ice_detect_plant" 3600 3
 echo "== ipc_value"
 "$bin/ipc_value" 5 3
 echo "== plant_farm_cpu"
