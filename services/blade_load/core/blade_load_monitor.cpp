@@ -1,0 +1,544 @@
+// Blade-root moment sensor monitoring (seed 000): estimators, residual channels, tests, classes, adaptation.
+#include "blade_load_monitor.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace windfdi::blade_load {
+
+namespace {
+constexpr double kTwoPi = 2.0 * M_PI;
+const char* kComponent[] = {"blade_moment_sensor_1", "blade_moment_sensor_2", "blade_moment_sensor_3"};
+
+double avg_others(const std::array<double, 3>& v, int b) { return 0.5 * (v[(b + 1) % 3] + v[(b + 2) % 3]); }
+}  // namespace
+
+const char* channel_name(int c) {
+  static const char* n[] = {"lidar_model", "cross_blade_model_residual", "cross_blade_mean_ratio",
+                            "cross_blade_amplitude", "cross_blade_mean"};
+  return n[c];
+}
+
+BladeLoadMonitor::BladeLoadMonitor(const MonitorConfig& config, LoadTable table)
+    : cfg_(config), table_(std::move(table)), lidar_(config.model, &table_) {
+  for (int b = 0; b < 3; ++b) {
+    sensor_[b] = std::make_unique<HarmonicEstimator>(cfg_.harmonic);
+    model_[b] = std::make_unique<HarmonicEstimator>(cfg_.harmonic);
+  }
+  witness_crit_ = student_t_critical(cfg_.witness_significance, 1e6);
+}
+
+bool BladeLoadMonitor::learned() const {
+  for (int c = 0; c < kChannels; ++c)
+    if (!healthy_[0][c].learned) return false;
+  return true;
+}
+
+bool BladeLoadMonitor::any_raised() const {
+  for (const auto& b : blades_)
+    if (!b.raised.empty()) return true;
+  return false;
+}
+
+double BladeLoadMonitor::crit(int c) const { return crit_[c]; }
+
+void BladeLoadMonitor::reset_windows() {
+  for (int b = 0; b < 3; ++b) {
+    sensor_[b]->reset();
+    model_[b]->reset();
+    sensor_valid_[b] = model_valid_[b] = false;
+  }
+  last_azimuth_ = kNaN;
+  rev_angle_ = 0.0;
+  op_n_ = 0;
+  shear_sum_ = lambda_sum_ = pitch_sum_ = 0.0;
+}
+
+FaultEvent BladeLoadMonitor::event(double t, const std::string& component, const std::string& fault,
+                                   bool raised) const {
+  FaultEvent e;
+  e.t = t;
+  e.t_detected = t;
+  e.component = component;
+  e.fault = fault;
+  e.raised = raised;
+  e.severity = "fault";
+  return e;
+}
+
+bool BladeLoadMonitor::update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events) {
+  const double t = s.t;
+  if (gap) reset_windows();
+  const bool speed_ok = std::isfinite(s.rotor_speed) && (s.valid_mask & kValidRotorSpeed) && s.rotor_speed <= 5.0;
+  if (!speed_ok || !std::isfinite(s.azimuth) || !(s.valid_mask & kValidAzimuth) ||
+      s.rotor_speed < cfg_.min_rotor_speed) {
+    ++rejected_;
+    if (sensor_[0]->size() > 0) reset_windows();
+    return false;
+  }
+  if (next_tick_ < 0) next_tick_ = t;
+
+  // Blade moments: NaN or out of range is a rejected channel; for too long, sensor_invalid.
+  std::array<bool, 3> m_ok{};
+  for (int b = 0; b < 3; ++b) {
+    const double m = s.blade_moment[b];
+    m_ok[b] = std::isfinite(m) && std::fabs(m) <= cfg_.max_moment && (s.valid_mask & (kValidBladeMoment1 << b));
+    BladeState& B = blades_[b];
+    if (m_ok[b]) {
+      if (B.invalid_raised) {
+        FaultEvent e = event(t, kComponent[b], "sensor_invalid", false);
+        e.t_detected = B.invalid_since;
+        events.push_back(e);
+        B.invalid_raised = false;
+      }
+      B.invalid_since = -1.0;
+    } else {
+      if (B.invalid_since < 0) B.invalid_since = t;
+      if (!B.invalid_raised && t - B.invalid_since >= cfg_.invalid_time) {
+        FaultEvent e = event(t, kComponent[b], "sensor_invalid", true);
+        e.t_detected = B.invalid_since;
+        e.statistic = t - B.invalid_since;
+        e.threshold = cfg_.invalid_time;
+        e.detail = "blade moment missing, NaN or beyond " + std::to_string(cfg_.max_moment) + " N m";
+        events.push_back(e);
+        B.invalid_raised = true;
+        sensor_[b]->reset();
+        sensor_valid_[b] = false;
+      }
+    }
+  }
+
+  // LIDAR: the model needs the value measured D / V ago.
+  if ((s.valid_mask & kValidLidar)) lidar_.add_lidar(t, s.lidar_v_upper, s.lidar_v_lower);
+  std::array<double, 3> pitch = s.pitch;
+  {
+    double sum = 0.0;
+    int n = 0;
+    for (int b = 0; b < 3; ++b)
+      if (std::isfinite(pitch[b]) && (s.valid_mask & (kValidPitch1 << b))) sum += pitch[b], ++n;
+    const double fill = n > 0 ? sum / n : last_pitch_mean_;
+    last_pitch_mean_ = fill;
+    for (int b = 0; b < 3; ++b)
+      if (!std::isfinite(pitch[b]) || !(s.valid_mask & (kValidPitch1 << b))) pitch[b] = fill;
+  }
+  std::array<double, 3> mm{};
+  const bool model_ok = lidar_.moments(t, s.rotor_speed, s.azimuth, pitch, mm);
+  if (model_ok) {
+    if (lidar_raised_) {
+      FaultEvent e = event(t, "lidar", "sensor_invalid", false);
+      e.t_detected = lidar_bad_since_;
+      events.push_back(e);
+      lidar_raised_ = false;
+    }
+    lidar_bad_since_ = -1.0;
+    lidar_ok_ = true;
+    shear_sum_ += lidar_.shear();
+    lambda_sum_ += lidar_.lambda();
+    pitch_sum_ += (pitch[0] + pitch[1] + pitch[2]) / 3.0;
+    ++op_n_;
+  } else {
+    if (lidar_bad_since_ < 0) lidar_bad_since_ = t;
+    if (t - lidar_bad_since_ >= cfg_.invalid_time && lidar_ok_) {
+      // Fall back to sensor-only (cross-blade) monitoring until the LIDAR is back.
+      lidar_ok_ = false;
+      for (auto& m : model_) m->reset();
+      model_valid_ = {false, false, false};
+      if (!lidar_raised_) {
+        FaultEvent e = event(t, "lidar", "sensor_invalid", true);
+        e.t_detected = lidar_bad_since_;
+        e.statistic = t - lidar_bad_since_;
+        e.threshold = cfg_.invalid_time;
+        e.severity = "warning";
+        e.detail = "no delayed LIDAR speeds: sensor-only (cross-blade) monitoring";
+        events.push_back(e);
+        lidar_raised_ = true;
+      }
+    }
+  }
+
+  for (int b = 0; b < 3; ++b) {
+    const double psi = s.azimuth + b * kTwoPi / 3.0;
+    if (m_ok[b]) sensor_[b]->update(s.blade_moment[b], psi, s.rotor_speed);
+    if (model_ok) model_[b]->update(mm[b], psi, s.rotor_speed);
+  }
+
+  // One revolution of blade 1 since the last per-revolution evaluation?
+  bool rev = false;
+  if (std::isfinite(last_azimuth_)) {
+    rev_angle_ += std::max(0.0, std::remainder(s.azimuth - last_azimuth_, kTwoPi));
+    if (rev_angle_ >= kTwoPi) {
+      rev_angle_ -= kTwoPi;
+      rev = true;
+    }
+  }
+  last_azimuth_ = s.azimuth;
+  const bool tick_due = t >= next_tick_ - 1e-9;
+  if (rev || tick_due) {
+    for (int b = 0; b < 3; ++b) {
+      sensor_valid_[b] = m_ok[b] && sensor_[b]->solve().valid;
+      a_sensor_[b] = sensor_[b]->amplitude();
+      mean_sensor_[b] = sensor_[b]->window_mean();
+      model_valid_[b] = lidar_ok_ && model_ok && model_[b]->solve().valid;
+      a_model_[b] = model_[b]->amplitude();
+      mean_model_[b] = model_[b]->window_mean();
+    }
+  }
+  if (rev) revolution(t, events);
+  if (tick_due) {
+    while (next_tick_ <= t + 1e-9) next_tick_ += 1.0 / cfg_.estimate_rate;
+    tick(t, events);
+  }
+  return true;
+}
+
+void BladeLoadMonitor::channel_values(std::array<std::array<double, kChannels>, 3>& x) const {
+  for (auto& r : x) r.fill(kNaN);
+  const bool all_sensors = sensor_valid_[0] && sensor_valid_[1] && sensor_valid_[2];
+  const bool all_models = model_valid_[0] && model_valid_[1] && model_valid_[2];
+  const double mean_all = std::fabs(mean_sensor_[0] + mean_sensor_[1] + mean_sensor_[2]) / 3.0;
+  std::array<double, 3> d{}, r{};
+  for (int b = 0; b < 3; ++b) {
+    if (sensor_valid_[b] && model_valid_[b] && std::fabs(mean_model_[b]) > 1e3) {
+      // The paper's residual delta_A = A_model - A_sensor, relative to the mean load: with IPC and turbulence
+      // the true first harmonic passes near zero, where a ratio to it would explode.
+      x[b][kModelChannel] = (a_model_[b] - a_sensor_[b]) / std::fabs(mean_model_[b]);
+      d[b] = (a_sensor_[b] - a_model_[b]) / std::fabs(mean_model_[b]);
+      r[b] = mean_sensor_[b] / mean_model_[b];
+    }
+  }
+  if (!all_sensors || mean_all <= 1e3) return;
+  for (int b = 0; b < 3; ++b) {
+    // Second witness: the other two blades see the same shear 120 deg apart, so a LIDAR-model error common to
+    // all blades cancels in the difference; the model still explains each blade's own pitch.
+    if (all_models && std::isfinite(x[0][kModelChannel]) && std::isfinite(x[1][kModelChannel]) &&
+        std::isfinite(x[2][kModelChannel])) {
+      x[b][kWitnessChannel] = d[b] - avg_others(d, b);
+      // Mean load (SEED_ERRATA 000: an offset leaves the first harmonic unchanged), model-normalised.
+      x[b][kMeanChannel] = r[b] - avg_others(r, b);
+    }
+    x[b][kRawWitnessChannel] = (a_sensor_[b] - avg_others(a_sensor_, b)) / mean_all;
+    x[b][kRawMeanChannel] = (mean_sensor_[b] - avg_others(mean_sensor_, b)) / mean_all;
+  }
+}
+
+bool BladeLoadMonitor::standalone(int c) const {
+  const bool model_on = lidar_ok_ && healthy_[0][kModelChannel].learned;
+  const bool mean_on = lidar_ok_ && healthy_[0][kMeanChannel].learned;
+  switch (c) {
+    case kModelChannel: return model_on;
+    case kWitnessChannel: return false;  // it only confirms the LIDAR residual
+    case kMeanChannel: return cfg_.mean_test && mean_on;
+    case kRawWitnessChannel: return !model_on;
+    case kRawMeanChannel: return cfg_.mean_test && !mean_on;
+  }
+  return false;
+}
+
+void BladeLoadMonitor::revolution(double t, std::vector<FaultEvent>& events) {
+  (void)events;
+  if (last_rev_t_ >= 0) rev_time_ = t - last_rev_t_;
+  last_rev_t_ = t;
+  std::array<std::array<double, kChannels>, 3> x;
+  channel_values(x);
+  const std::size_t keep = static_cast<std::size_t>(std::max(cfg_.drift_window, cfg_.abrupt_lookback + 1) + 1);
+  for (int b = 0; b < 3; ++b) {
+    BladeState& B = blades_[b];
+    B.history.push_back(x[b]);
+    std::array<double, kChannels> tv;
+    for (int c = 0; c < kChannels; ++c)
+      tv[c] = healthy_[b][c].learned && std::isfinite(x[b][c]) ? healthy_[b][c].outlier_t(x[b][c]) : kNaN;
+    B.t_history.push_back(tv);
+    while (B.history.size() > keep) B.history.pop_front();
+    while (B.t_history.size() > keep) B.t_history.pop_front();
+  }
+
+  // Learn each channel's healthy distribution in the start-up phase, then freeze it.
+  for (int c = 0; c < kChannels; ++c) {
+    if (healthy_[0][c].learned) continue;
+    if (!(std::isfinite(x[0][c]) && std::isfinite(x[1][c]) && std::isfinite(x[2][c]))) continue;
+    if (first_value_t_[c] < 0) first_value_t_[c] = t;
+    for (int b = 0; b < 3; ++b) learners_[b][c].add(x[b][c]);
+    if (t - first_value_t_[c] >= cfg_.learn_time && learners_[0][c].size() >= cfg_.min_learn_revolutions) {
+      for (int b = 0; b < 3; ++b) {
+        healthy_[b][c] = learners_[b][c].freeze();
+        learners_[b][c].clear();
+      }
+      MonitorState s = state();
+      restore(s);  // recomputes the critical values
+    }
+  }
+
+  // Moving-window mean test (drift), once per revolution on non-overlapping windows.
+  std::array<std::array<double, kChannels>, 3> dt{};
+  for (auto& r : dt) r.fill(kNaN);
+  const int W = cfg_.drift_window;
+  for (int b = 0; b < 3; ++b) {
+    const BladeState& B = blades_[b];
+    if (static_cast<int>(B.history.size()) < W) continue;
+    for (int c = 0; c < kChannels; ++c) {
+      if (!healthy_[b][c].learned) continue;
+      double sum = 0.0;
+      bool ok = true;
+      for (int i = 0; i < W; ++i) {
+        const double v = B.history[B.history.size() - 1 - i][c];
+        ok = ok && std::isfinite(v);
+        sum += v;
+      }
+      if (ok) dt[b][c] = healthy_[b][c].drift_t(sum / W, W);
+    }
+  }
+  for (int b = 0; b < 3; ++b) {
+    BladeState& B = blades_[b];
+    B.drift_firing = false;
+    B.drift_channel = -1;
+    double best = 0.0;
+    for (int c = 0; c < kChannels; ++c) {
+      const double v = dt[b][c];
+      if (!std::isfinite(v) || std::fabs(v) <= drift_crit_[c]) continue;
+      if (!standalone(c)) continue;
+      if (c == kModelChannel) {
+        if (cfg_.witness == Witness::kConfirm &&
+            !(std::isfinite(dt[b][kWitnessChannel]) && v * dt[b][kWitnessChannel] < 0 &&
+              std::fabs(dt[b][kWitnessChannel]) > witness_crit_))
+          continue;
+      } else {
+        // Single-fault isolation: a faulty blade also shifts the others' cross residuals, by half as much.
+        bool largest = true;
+        for (int o = 0; o < 3; ++o)
+          if (o != b && std::isfinite(dt[o][c]) && std::fabs(dt[o][c]) > std::fabs(v)) largest = false;
+        if (!largest) continue;
+      }
+      if (std::fabs(v) / drift_crit_[c] > best) {
+        best = std::fabs(v) / drift_crit_[c];
+        B.drift_firing = true;
+        B.drift_t = v;
+        B.drift_channel = c;
+      }
+    }
+  }
+
+  // Slow healthy adaptation, only while nothing is raised anywhere on the turbine.
+  if (cfg_.healthy_adapt_time > 0 && rev_time_ > 0 && !any_raised()) {
+    const double w = std::min(1.0, rev_time_ / cfg_.healthy_adapt_time);
+    for (int b = 0; b < 3; ++b)
+      for (int c = 0; c < kChannels; ++c) {
+        HealthyStats& h = healthy_[b][c];
+        const double v = x[b][c];
+        if (!h.learned || !std::isfinite(v) || blades_[b].exceed_count > 0) continue;
+        const double d = v - h.mean;
+        h.mean += w * d;
+        h.var += w * (d * d - h.var);
+      }
+  }
+  maybe_adapt(t);
+}
+
+void BladeLoadMonitor::maybe_adapt(double t) {
+  (void)t;
+  const double shear = op_n_ > 0 ? shear_sum_ / op_n_ : kNaN;
+  const double lambda = op_n_ > 0 ? lambda_sum_ / op_n_ : kNaN;
+  const double pitch = op_n_ > 0 ? pitch_sum_ / op_n_ : kNaN;
+  op_n_ = 0;
+  shear_sum_ = lambda_sum_ = pitch_sum_ = 0.0;
+  bool ok = cfg_.adapt && lidar_ok_ && std::isfinite(shear) && std::fabs(shear) < cfg_.uniform_shear &&
+            healthy_[0][kMeanChannel].learned && !any_raised();
+  for (int b = 0; b < 3; ++b) ok = ok && sensor_valid_[b] && model_valid_[b] && blades_[b].exceed_count == 0;
+  if (!ok) {
+    adapt_n_ = 0;
+    return;
+  }
+  const double ms = (mean_sensor_[0] + mean_sensor_[1] + mean_sensor_[2]) / 3.0;
+  const double mm = (mean_model_[0] + mean_model_[1] + mean_model_[2]) / 3.0;
+  if (!(ms > 0 && mm > 0)) {
+    adapt_n_ = 0;
+    return;
+  }
+  // A segment holds one operating point: when it moves, start a new segment at this revolution.
+  if (adapt_n_ > 0 && (std::max(adapt_lmax_, lambda) - std::min(adapt_lmin_, lambda) > cfg_.adapt_max_lambda_spread ||
+                       std::max(adapt_pmax_, pitch) - std::min(adapt_pmin_, pitch) > cfg_.adapt_max_pitch_spread))
+    adapt_n_ = 0;
+  if (adapt_n_ == 0) {
+    adapt_sensor_ = adapt_model_ = adapt_lsum_ = adapt_psum_ = 0.0;
+    adapt_lmin_ = adapt_lmax_ = lambda;
+    adapt_pmin_ = adapt_pmax_ = pitch;
+  }
+  adapt_lmin_ = std::min(adapt_lmin_, lambda);
+  adapt_lmax_ = std::max(adapt_lmax_, lambda);
+  adapt_pmin_ = std::min(adapt_pmin_, pitch);
+  adapt_pmax_ = std::max(adapt_pmax_, pitch);
+  adapt_sensor_ += ms;
+  adapt_model_ += mm;
+  adapt_lsum_ += lambda;
+  adapt_psum_ += pitch;
+  if (++adapt_n_ < cfg_.adapt_revolutions) return;
+  // Uniform wind over a long segment: the model's mean load should equal the sensors' (seed 000, last section).
+  const double l = adapt_lsum_ / adapt_n_, p = adapt_psum_ / adapt_n_;
+  const double target = table_.factor(l, p) * adapt_sensor_ / adapt_model_;
+  table_.adapt(l, p, target, cfg_.adapt_gain, cfg_.adapt_sigma_lambda, cfg_.adapt_sigma_pitch, cfg_.adapt_bound);
+  ++adaptations_;
+  adapt_n_ = 0;
+}
+
+void BladeLoadMonitor::tick(double t, std::vector<FaultEvent>& events) {
+  out_.t = t;
+  out_.lidar_ok = lidar_ok_;
+  out_.shear = lidar_ok_ ? lidar_.shear() : kNaN;
+  for (int b = 0; b < 3; ++b) {
+    out_.valid[b] = sensor_valid_[b];
+    out_.a1_sensor[b] = sensor_valid_[b] ? a_sensor_[b] : kNaN;
+    out_.a1_model[b] = model_valid_[b] ? a_model_[b] : kNaN;
+    out_.delta_a[b] = sensor_valid_[b] && model_valid_[b] ? a_model_[b] - a_sensor_[b] : kNaN;
+  }
+  due_ = true;
+
+  std::array<std::array<double, kChannels>, 3> x, tv;
+  channel_values(x);
+  for (int b = 0; b < 3; ++b)
+    for (int c = 0; c < kChannels; ++c) {
+      tv[b][c] = healthy_[b][c].learned && std::isfinite(x[b][c]) ? healthy_[b][c].outlier_t(x[b][c]) : kNaN;
+      if (std::isfinite(tv[b][c]) && crit_[c] > 0) max_ratio_[c] = std::max(max_ratio_[c], std::fabs(tv[b][c]) / crit_[c]);
+    }
+  for (int b = 0; b < 3; ++b) {
+    int best_c = -1;
+    double best = 0.0;
+    for (int c = 0; c < kChannels; ++c) {
+      const double v = tv[b][c];
+      if (!std::isfinite(v) || std::fabs(v) <= crit_[c]) continue;
+      if (!standalone(c)) continue;
+      if (c == kModelChannel) {
+        if (cfg_.witness == Witness::kConfirm &&
+            !(std::isfinite(tv[b][kWitnessChannel]) && v * tv[b][kWitnessChannel] < 0 &&
+              std::fabs(tv[b][kWitnessChannel]) > witness_crit_))
+          continue;
+      } else {
+        bool largest = true;
+        for (int o = 0; o < 3; ++o)
+          if (o != b && std::isfinite(tv[o][c]) && std::fabs(tv[o][c]) > std::fabs(v)) largest = false;
+        if (!largest) continue;
+      }
+      if (std::fabs(v) / crit_[c] > best) {
+        best = std::fabs(v) / crit_[c];
+        best_c = c;
+      }
+    }
+    double size = 0.0;
+    if (best_c == kModelChannel || best_c == kWitnessChannel) size = a_sensor_[b] - a_model_[b];
+    if (best_c == kRawWitnessChannel) size = a_sensor_[b] - avg_others(a_sensor_, b);
+    if (best_c == kMeanChannel) size = mean_sensor_[b] - mean_model_[b] * avg_others(
+        {mean_sensor_[0] / mean_model_[0], mean_sensor_[1] / mean_model_[1], mean_sensor_[2] / mean_model_[2]}, b);
+    if (best_c == kRawMeanChannel) size = mean_sensor_[b] - avg_others(mean_sensor_, b);
+    blade_decision(b, t, best_c >= 0, best_c >= 0 ? tv[b][best_c] : 0.0, best_c >= 0 ? crit_[best_c] : 0.0, best_c,
+                   size, events);
+  }
+}
+
+void BladeLoadMonitor::blade_decision(int b, double t, bool outlier, double stat, double critical, int channel,
+                                      double size, std::vector<FaultEvent>& events) {
+  BladeState& B = blades_[b];
+  const bool drift = B.drift_firing;
+  // An episode is active while the outlier test fires (and, for a raised drift, while the drift test does).
+  const bool active = outlier || (drift && (B.raised.empty() || B.raised == "sensor_drift"));
+  if (active) {
+    ++B.exceed_count;
+    B.quiet_since = -1.0;
+  } else {
+    B.exceed_count = 0;
+    if (B.quiet_since < 0) B.quiet_since = t;
+  }
+  auto raise = [&](const std::string& cls) {
+    FaultEvent e = event(t, kComponent[b], cls, true);
+    const bool by_drift = !outlier;
+    const int c = by_drift ? B.drift_channel : channel;
+    e.statistic = by_drift ? B.drift_t : stat;
+    e.threshold = by_drift ? drift_crit_[std::max(c, 0)] : critical;
+    e.size = size;
+    if (by_drift && c >= 0) {
+      // The window's mean residual, back in N m.
+      const double mean_all = (mean_sensor_[0] + mean_sensor_[1] + mean_sensor_[2]) / 3.0;
+      const double v = blades_[b].history.back()[c] - healthy_[b][c].mean;
+      e.size = c == kModelChannel ? -v * mean_all : v * mean_all;
+    }
+    e.detail = std::string(by_drift ? "moving-window mean test on " : "outlier t-test on ") +
+               (c >= 0 ? channel_name(c) : "?") + (lidar_ok_ ? "" : " (no LIDAR: sensor-only)");
+    events.push_back(e);
+    B.raised = cls;
+    B.raised_at = t;
+    B.returned = false;
+  };
+  auto clear = [&]() {
+    FaultEvent e = event(t, kComponent[b], B.raised, false);
+    e.t_detected = B.raised_at;
+    events.push_back(e);
+    B.raised.clear();
+  };
+  const bool confirmed = B.exceed_count >= cfg_.confirm_count || (drift && B.exceed_count >= 1 && !outlier);
+  if (B.raised.empty()) {
+    if (!confirmed) return;
+    std::string cls = "sensor_drift";
+    if (outlier) {
+      // Step or ramp? Compare with the residual a few revolutions ago.
+      const auto& h = B.t_history;
+      const int back = cfg_.abrupt_lookback;
+      if (static_cast<int>(h.size()) > back) {
+        const double past = h[h.size() - 1 - back][channel];
+        if (!std::isfinite(past) || std::fabs(past) < cfg_.abrupt_ratio * critical) cls = "sensor_abrupt";
+      } else {
+        cls = "sensor_abrupt";
+      }
+    }
+    raise(cls);
+    return;
+  }
+  if (!B.returned) {
+    if (!active && t - B.quiet_since >= cfg_.return_time) B.returned = true;
+    return;
+  }
+  if (confirmed) {
+    // The fault came back: it comes and goes.
+    if (t - B.quiet_since <= cfg_.intermittent_window && B.raised != "sensor_intermittent") {
+      clear();
+      raise("sensor_intermittent");
+    }
+    B.returned = false;
+    return;
+  }
+  if (!active && t - B.quiet_since >= cfg_.clear_time) clear();
+}
+
+bool BladeLoadMonitor::estimate_due(BladeLoadOutput& out) {
+  if (!due_) return false;
+  due_ = false;
+  out = out_;
+  return true;
+}
+
+MonitorState BladeLoadMonitor::state() const {
+  MonitorState s;
+  s.table_factors = table_.factors();
+  s.n_lambda = table_.n_lambda();
+  s.n_pitch = table_.n_pitch();
+  s.healthy = healthy_;
+  return s;
+}
+
+void BladeLoadMonitor::restore(const MonitorState& s) {
+  if (s.n_lambda == table_.n_lambda() && s.n_pitch == table_.n_pitch() &&
+      s.table_factors.size() == table_.factors().size())
+    table_.factors() = s.table_factors;
+  healthy_ = s.healthy;
+  for (int c = 0; c < kChannels; ++c) {
+    if (!healthy_[0][c].learned) continue;
+    int n = healthy_[0][c].n;
+    double ne = healthy_[0][c].n_eff(n);
+    for (int b = 1; b < 3; ++b) {
+      n = std::min(n, healthy_[b][c].n);
+      ne = std::min(ne, healthy_[b][c].n_eff(healthy_[b][c].n));
+    }
+    crit_[c] = student_t_critical(cfg_.significance, std::max(1, n - 1));
+    drift_crit_[c] = student_t_critical(cfg_.drift_significance, std::max(1.0, ne - 1.0));
+  }
+  const int nw = healthy_[0][kWitnessChannel].learned ? healthy_[0][kWitnessChannel].n : 1000000;
+  witness_crit_ = student_t_critical(cfg_.witness_significance, std::max(1, nw - 1));
+}
+
+}  // namespace windfdi::blade_load

@@ -1,0 +1,183 @@
+// Blade-root moment sensor monitoring of one turbine (seed 000): first harmonic from each strain gauge and from
+// the LIDAR load model, t-tests on their difference with the other blades as a second witness, fault classes,
+// load-table adaptation in uniform wind, and the state a restart keeps.
+#pragma once
+
+#include <array>
+#include <deque>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fault_event.hpp"
+#include "frame_sample.hpp"
+#include "harmonic_ls.hpp"
+#include "load_model.hpp"
+#include "statistics.hpp"
+#include "turbine_params.hpp"
+#include "yaml_config.hpp"
+
+namespace windfdi::blade_load {
+
+enum class Witness { kOff, kConfirm };
+
+struct MonitorConfig {
+  HarmonicConfig harmonic;          ///< sensor and model estimators (eqs 3-8)
+  LoadModelConfig model;            ///< LIDAR load model (eqs 1, 9)
+  double estimate_rate = 10.0;      ///< Hz, estimates and the per-sample outlier test
+  double min_rotor_speed = 0.5;     ///< rad/s; below it (standstill, idling) nothing is estimated
+  double max_moment = 5e7;          ///< N m, |blade moment| above it is out of range (sensor_invalid)
+  double invalid_time = 1.0;        ///< s a blade moment or the LIDAR must stay invalid before sensor_invalid
+  double min_a1_share = 0.02;       ///< floor of the amplitude normalisation, share of the mean load (-)
+  // Detection (seed 000: t-test per sample for outliers, moving-window mean test for drift).
+  double significance = 1e-8;       ///< two-sided level of the outlier t-test per 10 Hz sample (0..0.1)
+  double drift_significance = 1e-6; ///< two-sided level of the moving-window mean test per revolution
+  int drift_window = 10;            ///< revolutions in the moving-window mean
+  double learn_time = 300.0;        ///< s of healthy start-up from which each residual's distribution is learned
+  int min_learn_revolutions = 40;   ///< and at least this many revolutions
+  double healthy_adapt_time = 3600; ///< s, time constant of the slow healthy-statistics update (0: frozen);
+                                    ///< applied only while nothing is raised on the turbine
+  int confirm_count = 10;           ///< consecutive 10 Hz exceedances to raise (1 s)
+  double abrupt_ratio = 0.5;        ///< abrupt if two revolutions before detection |t| was below this share of
+                                    ///< the critical value (the residual stepped), else drift (it ramped)
+  int abrupt_lookback = 2;          ///< revolutions back for that comparison
+  double return_time = 3.0;         ///< s without exceedance: the fault episode is over (the sensor returned)
+  double intermittent_window = 120; ///< s: a new episode within this after a return makes it sensor_intermittent
+  double clear_time = 120.0;        ///< s after a return with no new episode: the fault clears
+  Witness witness = Witness::kConfirm;  ///< kConfirm: the LIDAR residual counts only if the cross-blade
+                                        ///< amplitude residual agrees (sign and witness_significance)
+  double witness_significance = 1e-2;  ///< two-sided level of that agreement
+  bool mean_test = true;            ///< cross-blade mean-load test (the only one that sees an offset or drift)
+  // Load-table adaptation in uniform wind (seed 000, last section).
+  bool adapt = true;
+  double uniform_shear = 0.04;      ///< |LIDAR shear exponent| below which the wind is uniform
+  int adapt_revolutions = 20;       ///< consecutive uniform revolutions averaged for one update
+  double adapt_gain = 0.2;          ///< share of the way to the measured ratio per update (0..1)
+  double adapt_bound = 0.15;        ///< largest correction of the shipped table, +/- share
+  double adapt_sigma_lambda = 0.5;  ///< tip-speed-ratio width of an update on the surface
+  double adapt_sigma_pitch = 1.5;   ///< deg, pitch width of an update
+  double adapt_max_lambda_spread = 0.5;  ///< operating point must stay within this lambda range while averaging
+  double adapt_max_pitch_spread = 2.0;   ///< and within this pitch range (deg)
+};
+
+/// Loads the `blade_load` keys (unknown keys and out-of-range values are ConfigErrors naming file and key).
+MonitorConfig load_monitor_config(const YamlSection& section, const TurbineParams& turbine);
+
+/// The 10 Hz estimate (the replay columns and BladeLoadEstimate).
+struct BladeLoadOutput {
+  double t = 0.0;
+  std::array<double, 3> a1_sensor{kNaN, kNaN, kNaN};  ///< N m
+  std::array<double, 3> a1_model{kNaN, kNaN, kNaN};   ///< N m
+  std::array<double, 3> delta_a{kNaN, kNaN, kNaN};    ///< a1_model - a1_sensor (N m)
+  std::array<bool, 3> valid{false, false, false};
+  bool lidar_ok = false;
+  double shear = kNaN;  ///< LIDAR shear exponent (-)
+};
+
+/// Residual channels per blade, each with its own healthy distribution.
+/// kModel: (A_model - A_sensor) / mean load (the paper's delta_A). kWitness: the same residual minus the other two
+/// blades' (a common LIDAR-model error cancels). kMean: the sensor/model mean-load ratio minus the other blades'
+/// (an offset or drift). kRawWitness, kRawMean: the sensors alone against each other, when the LIDAR is missing.
+enum Channel { kModelChannel = 0, kWitnessChannel, kMeanChannel, kRawWitnessChannel, kRawMeanChannel, kChannels };
+const char* channel_name(int c);
+
+/// What a restart keeps: the learned table correction and the healthy statistics.
+struct MonitorState {
+  std::vector<double> table_factors;                     ///< LoadTable::factors()
+  int n_lambda = 0, n_pitch = 0;
+  std::array<std::array<HealthyStats, kChannels>, 3> healthy{};
+};
+/// Writes atomically (a temporary file beside it, then rename). Throws ConfigError on failure.
+void save_state(const MonitorState& s, const std::string& path);
+/// Reads a state file; false when it does not exist. A malformed file is a ConfigError.
+bool load_state(const std::string& path, MonitorState& s);
+
+class BladeLoadMonitor {
+ public:
+  BladeLoadMonitor(const MonitorConfig& config, LoadTable table);
+
+  /// Feeds one sample. Returns false when it was rejected (rotor speed or azimuth missing, standstill).
+  /// `gap`: samples were lost, the windows restart.
+  bool update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events);
+  /// True at the estimate rate, with the estimate in `out`.
+  bool estimate_due(BladeLoadOutput& out);
+
+  MonitorState state() const;
+  /// Restores a saved state (a table of another shape keeps the shipped table; statistics are still used).
+  void restore(const MonitorState& s);
+
+  // Introspection for tests, benchmarks and the README's measurements.
+  const LoadTable& table() const { return table_; }
+  const HealthyStats& healthy(int blade, int channel) const { return healthy_[blade][channel]; }
+  bool learned() const;
+  /// Largest |outlier t| / critical value seen per channel after learning (a healthy run's margin).
+  double max_ratio(int channel) const { return max_ratio_[channel]; }
+  /// The class raised on a blade ("" when none).
+  const std::string& raised(int blade) const { return blades_[blade].raised; }
+  int adaptations() const { return adaptations_; }
+  const HarmonicEstimator& sensor_estimator(int blade) const { return *sensor_[blade]; }
+  const HarmonicEstimator& model_estimator(int blade) const { return *model_[blade]; }
+  const LidarLoadModel& load_model() const { return lidar_; }
+  uint64_t rejected() const { return rejected_; }
+
+ private:
+  struct BladeState {
+    std::deque<std::array<double, kChannels>> history;   // per-revolution values
+    std::deque<std::array<double, kChannels>> t_history;  // per-revolution outlier t
+    int exceed_count = 0;
+    bool drift_firing = false;
+    double drift_t = 0.0;
+    int drift_channel = -1;
+    std::string raised;         // class raised, "" none
+    double raised_at = 0.0;
+    bool returned = false;      // episode over, waiting for a new one or clearance
+    double quiet_since = -1.0;  // last exceedance-free start
+    double invalid_since = -1.0;
+    bool invalid_raised = false;
+  };
+
+  void reset_windows();
+  void tick(double t, std::vector<FaultEvent>& events);       // estimate rate
+  void revolution(double t, std::vector<FaultEvent>& events); // once per revolution
+  void channel_values(std::array<std::array<double, kChannels>, 3>& x) const;
+  void blade_decision(int b, double t, bool alarm, double stat, double crit, int channel, double size,
+                      std::vector<FaultEvent>& events);
+  void maybe_adapt(double t);
+  FaultEvent event(double t, const std::string& component, const std::string& fault, bool raised) const;
+  double crit(int channel) const;
+  bool standalone(int channel) const;  // may decide alone now
+  bool any_raised() const;
+
+  MonitorConfig cfg_;
+  LoadTable table_;
+  LidarLoadModel lidar_;
+  std::array<std::unique_ptr<HarmonicEstimator>, 3> sensor_, model_;
+  std::array<bool, 3> sensor_valid_{}, model_valid_{};
+  std::array<double, 3> a_sensor_{}, a_model_{}, mean_sensor_{}, mean_model_{};
+  bool lidar_ok_ = false;
+  double lidar_bad_since_ = -1.0;
+  bool lidar_raised_ = false;
+  double next_tick_ = -1.0;
+  double rev_angle_ = 0.0, last_azimuth_ = kNaN;
+  bool due_ = false;
+  BladeLoadOutput out_;
+  std::array<BladeState, 3> blades_;
+  std::array<std::array<HealthyLearner, kChannels>, 3> learners_;
+  std::array<std::array<HealthyStats, kChannels>, 3> healthy_{};
+  std::array<double, kChannels> first_value_t_{-1, -1, -1, -1, -1};
+  std::array<double, kChannels> max_ratio_{};
+  double crit_[kChannels] = {};
+  double witness_crit_ = 0.0, drift_crit_[kChannels] = {};
+  double rev_time_ = 0.0, last_rev_t_ = -1.0;
+  // Adaptation accumulators.
+  int adapt_n_ = 0;
+  double adapt_sensor_ = 0, adapt_model_ = 0, adapt_lmin_ = 0, adapt_lmax_ = 0, adapt_pmin_ = 0, adapt_pmax_ = 0,
+         adapt_lsum_ = 0, adapt_psum_ = 0;
+  double shear_sum_ = 0.0, lambda_sum_ = 0.0, pitch_sum_ = 0.0;
+  int op_n_ = 0;
+  int adaptations_ = 0;
+  uint64_t rejected_ = 0;
+  double last_pitch_mean_ = 0.0;
+};
+
+}  // namespace windfdi::blade_load

@@ -1,0 +1,139 @@
+// blade_load configuration from YAML and the persisted state (learned table correction, healthy statistics).
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "blade_load_monitor.hpp"
+
+namespace windfdi::blade_load {
+
+MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& turbine) {
+  y.require_known_keys({"turbine_file", "load_table_file", "state_file", "save_period", "regressor", "harmonics",
+                        "revolutions", "window_samples", "mean_time", "reform_every", "min_rcond", "sample_rate",
+                        "lidar_distance", "lidar_half_span", "tower_shadow", "shadow_width", "advection_time",
+                        "estimate_rate", "min_rotor_speed", "max_moment", "invalid_time", "min_a1_share",
+                        "significance", "drift_significance", "drift_window", "learn_time", "min_learn_revolutions",
+                        "healthy_adapt_time", "confirm_count", "abrupt_ratio", "abrupt_lookback", "return_time",
+                        "intermittent_window", "clear_time", "witness", "witness_significance", "mean_test", "adapt",
+                        "uniform_shear", "adapt_revolutions", "adapt_gain", "adapt_bound", "adapt_sigma_lambda",
+                        "adapt_sigma_pitch"});
+  MonitorConfig c;
+  HarmonicConfig& h = c.harmonic;
+  h.mode = y.get_choice("regressor", "azimuth", {"azimuth", "paper"}) == "paper" ? RegressorMode::kPaper
+                                                                                : RegressorMode::kAzimuth;
+  h.harmonics = static_cast<int>(y.get_number("harmonics", h.harmonics, 1, kMaxHarmonics));
+  h.revolutions = y.get_number("revolutions", h.revolutions, 0.5, 8.0);
+  h.window_samples = static_cast<int>(y.get_number("window_samples", 0, 0, 20000));
+  h.mean_time = y.get_number("mean_time", h.mean_time, 0.0, 600.0);
+  h.reform_every = static_cast<int>(y.get_number("reform_every", h.reform_every, 10, 1e7));
+  h.min_rcond = y.get_number("min_rcond", h.min_rcond, 1e-12, 0.5);
+  h.dt = 1.0 / y.get_number("sample_rate", 100.0, 1.0, 10000.0);
+  c.min_rotor_speed = y.get_number("min_rotor_speed", c.min_rotor_speed, 0.05, 5.0);
+  // The window holds `revolutions` at the slowest monitored speed.
+  h.capacity = std::max(h.window_samples, static_cast<int>(2.0 * M_PI * h.revolutions / (c.min_rotor_speed * h.dt)) + 2);
+  LoadModelConfig& m = c.model;
+  m.hub_height = turbine.hub_height;
+  m.rotor_radius = turbine.rotor_radius;
+  m.load_radius = turbine.load_radius;
+  m.lidar_distance = y.get_number("lidar_distance", m.lidar_distance, 1.0, 1000.0);
+  m.lidar_half_span = y.get_number("lidar_half_span", m.lidar_half_span, 0.05, 0.95);
+  m.tower_shadow = y.get_number("tower_shadow", m.tower_shadow, 0.0, 0.9);
+  m.shadow_width = y.get_number("shadow_width", m.shadow_width, 0.01, 3.0);
+  m.advection_time = y.get_number("advection_time", m.advection_time, 0.0, 3600.0);
+  c.estimate_rate = y.get_number("estimate_rate", c.estimate_rate, 0.1, 100.0);
+  c.max_moment = y.get_number("max_moment", c.max_moment, 1e3, 1e10);
+  c.invalid_time = y.get_number("invalid_time", c.invalid_time, 0.0, 600.0);
+  c.min_a1_share = y.get_number("min_a1_share", c.min_a1_share, 1e-4, 1.0);
+  c.significance = y.get_number("significance", c.significance, 1e-12, 0.1);
+  c.drift_significance = y.get_number("drift_significance", c.drift_significance, 1e-12, 0.1);
+  c.drift_window = static_cast<int>(y.get_number("drift_window", c.drift_window, 2, 1000));
+  c.learn_time = y.get_number("learn_time", c.learn_time, 10.0, 1e6);
+  c.min_learn_revolutions = static_cast<int>(y.get_number("min_learn_revolutions", c.min_learn_revolutions, 5, 1e6));
+  c.healthy_adapt_time = y.get_number("healthy_adapt_time", c.healthy_adapt_time, 0.0, 1e8);
+  c.confirm_count = static_cast<int>(y.get_number("confirm_count", c.confirm_count, 1, 1000));
+  c.abrupt_ratio = y.get_number("abrupt_ratio", c.abrupt_ratio, 0.0, 1.0);
+  c.abrupt_lookback = static_cast<int>(y.get_number("abrupt_lookback", c.abrupt_lookback, 1, 20));
+  c.return_time = y.get_number("return_time", c.return_time, 0.1, 3600.0);
+  c.intermittent_window = y.get_number("intermittent_window", c.intermittent_window, 1.0, 86400.0);
+  c.clear_time = y.get_number("clear_time", c.clear_time, 1.0, 86400.0);
+  c.witness = y.get_choice("witness", "confirm", {"confirm", "off"}) == "off" ? Witness::kOff : Witness::kConfirm;
+  c.witness_significance = y.get_number("witness_significance", c.witness_significance, 1e-12, 0.5);
+  c.mean_test = y.get<bool>("mean_test", c.mean_test);
+  c.adapt = y.get<bool>("adapt", c.adapt);
+  c.uniform_shear = y.get_number("uniform_shear", c.uniform_shear, 0.0, 1.0);
+  c.adapt_revolutions = static_cast<int>(y.get_number("adapt_revolutions", c.adapt_revolutions, 1, 100000));
+  c.adapt_gain = y.get_number("adapt_gain", c.adapt_gain, 0.0, 1.0);
+  c.adapt_bound = y.get_number("adapt_bound", c.adapt_bound, 0.0, 0.9);
+  c.adapt_sigma_lambda = y.get_number("adapt_sigma_lambda", c.adapt_sigma_lambda, 0.01, 20.0);
+  c.adapt_sigma_pitch = y.get_number("adapt_sigma_pitch", c.adapt_sigma_pitch, 0.01, 90.0);
+  return c;
+}
+
+namespace {
+YAML::Node stats_node(const HealthyStats& h) {
+  YAML::Node n;
+  n["n"] = h.n;
+  n["mean"] = h.mean;
+  n["var"] = h.var;
+  n["rho"] = h.rho;
+  n["learned"] = h.learned;
+  return n;
+}
+}  // namespace
+
+void save_state(const MonitorState& s, const std::string& path) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::Comment("windfdi-blade-load state: learned load-table correction and healthy statistics");
+  YAML::Node root;
+  root["version"] = 1;
+  root["n_lambda"] = s.n_lambda;
+  root["n_pitch"] = s.n_pitch;
+  YAML::Node f(YAML::NodeType::Sequence);
+  for (double v : s.table_factors) f.push_back(v);
+  f.SetStyle(YAML::EmitterStyle::Flow);
+  root["table_factors"] = f;
+  for (int b = 0; b < 3; ++b)
+    for (int c = 0; c < kChannels; ++c)
+      root["healthy"]["blade_" + std::to_string(b + 1)][channel_name(c)] = stats_node(s.healthy[b][c]);
+  out << root;
+  // Atomic: write a temporary file beside the target, then rename over it.
+  const std::filesystem::path target(path);
+  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream o(tmp, std::ios::trunc);
+    if (!o) throw ConfigError(tmp, 0, "", "cannot write state file");
+    o << out.c_str() << "\n";
+    o.flush();
+    if (!o) throw ConfigError(tmp, 0, "", "write failed");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw ConfigError(path, 0, "", "cannot rename the state file into place");
+}
+
+bool load_state(const std::string& path, MonitorState& s) {
+  if (!std::filesystem::exists(path)) return false;
+  const YamlSection y = YamlSection::load_file(path);
+  s = MonitorState{};
+  s.n_lambda = static_cast<int>(y.require_number("n_lambda", 0, 1e6));
+  s.n_pitch = static_cast<int>(y.require_number("n_pitch", 0, 1e6));
+  s.table_factors = y.get<std::vector<double>>("table_factors", {});
+  if (s.table_factors.size() != static_cast<std::size_t>(s.n_lambda) * s.n_pitch)
+    throw y.error("table_factors", "expected n_lambda * n_pitch values");
+  const YamlSection h = y.section("healthy");
+  for (int b = 0; b < 3; ++b) {
+    const YamlSection blade = h.section("blade_" + std::to_string(b + 1));
+    for (int c = 0; c < kChannels; ++c) {
+      const YamlSection st = blade.section(channel_name(c));
+      HealthyStats& x = s.healthy[b][c];
+      x.n = static_cast<int>(st.get_number("n", 0, 0, 1e9));
+      x.mean = st.get_number("mean", 0, -1e9, 1e9);
+      x.var = st.get_number("var", 0, 0, 1e18);
+      x.rho = st.get_number("rho", 0, 0, 0.95);
+      x.learned = st.get<bool>("learned", false) && x.n >= 3;
+    }
+  }
+  return true;
+}
+
+}  // namespace windfdi::blade_load
