@@ -11,8 +11,8 @@ int main(int argc, char** argv) {
   plant::PlantOptions o;
   std::string rate = "realtime";
   app.add_option("--scenario", o.scenario, "scenario YAML (see deploy/scenarios/)")->required();
-  auto* rate_option =
-      app.add_option("--rate", rate, "realtime, max, or a speed-up factor (default: realtime, max with --offline)");
+  auto* rate_option = app.add_option(
+      "--rate", rate, "realtime, max, or a speed-up factor (default: realtime, max with --offline)");
   app.add_flag("--offline", o.offline, "no DDS: simulate and record only");
   app.add_option("--record", o.record, "write the replay CSV (.gz to compress)");
   app.add_flag("--record-truth", o.record_truth, "add true values and active faults to the recording");
@@ -20,7 +20,8 @@ int main(int argc, char** argv) {
   app.add_option("--duration", o.duration, "simulated seconds (overrides the scenario)");
   app.add_option("--config-lease", o.config_lease, "seconds a control configuration stays valid unrefreshed")
       ->capture_default_str();
-  app.add_option("--progress", o.progress_period, "seconds between progress lines (0: none)")->capture_default_str();
+  app.add_option("--progress", o.progress_period, "seconds between progress lines (0: none)")
+      ->capture_default_str();
   return run_main(app, argc, argv, common, [&] {
     // Offline nothing waits for the simulation, so it runs as fast as it can unless told otherwise.
     o.rate = plant::parse_rate(o.offline && rate_option->count() == 0 ? "max" : rate);

@@ -123,7 +123,8 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
       run.fault_column.push_back(static_cast<int>(it - fault_columns.begin()));
     }
   }
-  if (ids.empty()) throw ConfigError(o.scenario, 0, "turbines", "no turbine of the scenario matches --turbine");
+  if (ids.empty())
+    throw ConfigError(o.scenario, 0, "turbines", "no turbine of the scenario matches --turbine");
   if (o.offline && o.record.empty()) spdlog::warn("--offline without --record: the simulation goes nowhere");
 
   std::vector<std::string> extra;
@@ -154,8 +155,9 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
     if (o.rate > 0.0) {
       const double due = wall_start + t / o.rate;
       const double now = wall_time();
-      if (due > now) sleep_unless_shutdown(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                         std::chrono::duration<double>(due - now)));
+      if (due > now)
+        sleep_unless_shutdown(
+            std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(due - now)));
     }
     const double now = wall_time();
     if (dds) {
@@ -170,8 +172,9 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
         r.config_writer = config_meta[i].writer;
         r.config_writer_alive = true;
         if (c.revision() != r.config_revision || c.arbiter_id() != r.arbiter)
-          spdlog::info("{}: applying configuration r{} from {}: mode {}, ipc {}", c.turbine_id(), c.revision(),
-                       c.arbiter_id(), static_cast<int>(c.mode()), static_cast<int>(c.ipc_source()));
+          spdlog::info("{}: applying configuration r{} from {}: mode {}, ipc {}", c.turbine_id(),
+                       c.revision(), c.arbiter_id(), static_cast<int>(c.mode()),
+                       static_cast<int>(c.ipc_source()));
         r.input = to_input(c);
         r.config_received = now;
         r.config_revision = c.revision();
@@ -196,8 +199,8 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
       if (r.config_writer_alive && r.config_received >= 0.0) r.config_received = now;
       if (r.config_received >= 0.0 && now - r.config_received > o.config_lease) {
         const bool stopped = r.input.mode == OperatingMode::kSafeStop;
-        spdlog::warn("{}: no configuration for {:.1f} s (arbiter lost): back to defaults{}", id, o.config_lease,
-                     stopped ? ", staying in safe stop" : "");
+        spdlog::warn("{}: no configuration for {:.1f} s (arbiter lost): back to defaults{}", id,
+                     o.config_lease, stopped ? ", staying in safe stop" : "");
         r.input = ControlInput{};
         if (stopped) r.input.mode = OperatingMode::kSafeStop;
         r.config_received = -1.0;
@@ -214,7 +217,8 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
           values.assign(tv.begin(), tv.begin() + static_cast<long>(n_truth));
           values.resize(extra.size(), 0.0);
           const auto active = r.sim->faults_active();
-          for (std::size_t i = 0; i < active.size(); ++i) values[n_truth + r.fault_column[i]] = active[i] ? 1.0 : 0.0;
+          for (std::size_t i = 0; i < active.size(); ++i)
+            values[n_truth + r.fault_column[i]] = active[i] ? 1.0 : 0.0;
         }
         recorder->write(id, s, values);
       }
@@ -244,14 +248,16 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
     }
     if (o.progress_period > 0 && now - last_progress >= o.progress_period) {
       last_progress = now;
-      spdlog::info("plant: t = {:.0f} / {:.0f} s ({:.0f}x real time){}", t, sc.duration, t / (now - wall_start),
+      spdlog::info("plant: t = {:.0f} / {:.0f} s ({:.0f}x real time){}", t, sc.duration,
+                   t / (now - wall_start),
                    write_failures ? fmt::format(", {} DDS writes refused", write_failures) : "");
     }
   }
   if (recorder) recorder->flush();
   if (dds) dds->frames.get()->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(2, 0));
   spdlog::info("plant: done at t = {:.2f} s after {:.1f} s wall{}", runs.begin()->second.sim->time(),
-               wall_time() - wall_start, write_failures ? fmt::format(", {} DDS writes refused", write_failures) : "");
+               wall_time() - wall_start,
+               write_failures ? fmt::format(", {} DDS writes refused", write_failures) : "");
   return write_failures ? kExitFailure : kExitOk;
 }
 

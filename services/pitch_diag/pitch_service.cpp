@@ -65,9 +65,9 @@ ServiceSpec pitch_diag_spec() {
   spec.name = "pitch_diag";
   spec.description = "Pitch-actuator fault diagnosis by model identification (Wu & Li, MIFG; seed 002)";
   // The contract's columns first (omega_n, zeta, class), then the fault indicator and the excitation flag.
-  spec.estimate_columns = {"omega_n_1", "omega_n_2", "omega_n_3", "zeta_1",   "zeta_2",   "zeta_3",
-                           "class_1",   "class_2",   "class_3",   "alpha_1",  "alpha_2",  "alpha_3",
-                           "excited_1", "excited_2", "excited_3"};
+  spec.estimate_columns = {"omega_n_1", "omega_n_2", "omega_n_3", "zeta_1",    "zeta_2",
+                           "zeta_3",    "class_1",   "class_2",   "class_3",   "alpha_1",
+                           "alpha_2",   "alpha_3",   "excited_1", "excited_2", "excited_3"};
   spec.configure = [config](const YamlSection* cfg) {
     *config = load_pitch_diag_config(cfg ? *cfg : YamlSection(YAML::Node(YAML::NodeType::Map), "(defaults)"));
   };

@@ -43,20 +43,22 @@ std::string read_file(const std::string& path) {
 TEST(PitchReplay, PlantRecordingGivesTheContractFilesAndTheLeak) {
   // GIVEN a plant recording (gzip) of hydraulic_leakage.yaml: blade 3's actuator leaks from 150 s
   const std::string dir = temp_dir("pitch_replay");
-  ChildProcess plant({bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/hydraulic_leakage.yaml", "--offline",
-                      "--record", dir + "/frames.csv.gz"},
+  ChildProcess plant({bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/hydraulic_leakage.yaml",
+                      "--offline", "--record", dir + "/frames.csv.gz"},
                      {}, "plant");
   ASSERT_EQ(plant.wait(std::chrono::seconds(60)), 0) << plant.stderr_text();
   // WHEN windfdi-pitch-diag replays it
-  ChildProcess diag({bin("windfdi-pitch-diag"), "--replay", dir + "/frames.csv.gz", "--estimates", dir + "/est.csv",
-                     "--events", dir + "/events.jsonl", "--config", kDeploy + "/config/pitch_diag.yaml"},
-                    {}, "pitch_replay");
+  ChildProcess diag(
+      {bin("windfdi-pitch-diag"), "--replay", dir + "/frames.csv.gz", "--estimates", dir + "/est.csv",
+       "--events", dir + "/events.jsonl", "--config", kDeploy + "/config/pitch_diag.yaml"},
+      {}, "pitch_replay");
   ASSERT_EQ(diag.wait(std::chrono::seconds(60)), 0) << diag.stderr_text();
   // THEN the estimates have the contract's columns at 10 Hz (300 s: about 3000 rows)
   std::stringstream est(read_file(dir + "/est.csv"));
   std::string header;
   std::getline(est, header);
-  EXPECT_EQ(header.rfind("t,turbine_id,omega_n_1,omega_n_2,omega_n_3,zeta_1,zeta_2,zeta_3,class_1,class_2,class_3", 0),
+  EXPECT_EQ(header.rfind(
+                "t,turbine_id,omega_n_1,omega_n_2,omega_n_3,zeta_1,zeta_2,zeta_3,class_1,class_2,class_3", 0),
             0u)
       << header;
   int rows = 0;
@@ -77,8 +79,8 @@ TEST(PitchReplay, PlantRecordingGivesTheContractFilesAndTheLeak) {
 TEST(PitchReplay, MalformedRecordingExitsWithCode2NamingFileAndLine) {
   const std::string dir = temp_dir("pitch_replay_bad");
   std::ofstream(dir + "/bad.csv") << "t,pitch_1,pitch_ref_1\n0,1,1\n0.01,abc,1\n";
-  ChildProcess diag({bin("windfdi-pitch-diag"), "--replay", dir + "/bad.csv", "--estimates", dir + "/e.csv", "--events",
-                     dir + "/e.jsonl"},
+  ChildProcess diag({bin("windfdi-pitch-diag"), "--replay", dir + "/bad.csv", "--estimates", dir + "/e.csv",
+                     "--events", dir + "/e.jsonl"},
                     {}, "pitch_bad");
   EXPECT_EQ(diag.wait(std::chrono::seconds(20)), 2);
   EXPECT_NE(diag.stderr_text().find(dir + "/bad.csv:3"), std::string::npos) << diag.stderr_text();
@@ -94,11 +96,12 @@ void run_pipeline(const std::string& scenario, const std::string& component, con
   ChildProcess farm({bin("windfdi-farm"), "--db", db, "--table-period", "0"}, env, "farm");
   ChildProcess arbiter({bin("windfdi-arbiter")}, env, "arbiter");
   ChildProcess configs({bin("windfdi-test-peer"), "configs", "--timeout", "120"}, env, "configs");
-  ChildProcess diag({bin("windfdi-pitch-diag"), "--config", kDeploy + "/config/pitch_diag.yaml"}, env, "pitch_diag");
+  ChildProcess diag({bin("windfdi-pitch-diag"), "--config", kDeploy + "/config/pitch_diag.yaml"}, env,
+                    "pitch_diag");
   std::this_thread::sleep_for(std::chrono::seconds(2));
   // GIVEN the plant running the scenario at 20x real time
-  ChildProcess plant({bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/" + scenario, "--rate", "20"}, env,
-                     "plant");
+  ChildProcess plant({bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/" + scenario, "--rate", "20"},
+                     env, "plant");
   // THEN the farm stores the fault raised by pitch_diag on the right component
   const auto stored = [&] {
     ChildProcess h({bin("windfdi-farm"), "--db", db, "history", "--json"}, env, "history");
@@ -116,7 +119,8 @@ void run_pipeline(const std::string& scenario, const std::string& component, con
       if (j.contains("revision") && reaction(j)) return true;
     return false;
   };
-  EXPECT_TRUE(wait_until(reacted, std::chrono::seconds(20))) << configs.stdout_text() << arbiter.stderr_text();
+  EXPECT_TRUE(wait_until(reacted, std::chrono::seconds(20)))
+      << configs.stdout_text() << arbiter.stderr_text();
   // AND no other pitch fault was raised
   EXPECT_EQ(diag.stderr_text().find("pump_wear on pitch_actuator_2"), std::string::npos);
   plant.stop(SIGTERM);

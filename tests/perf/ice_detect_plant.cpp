@@ -67,8 +67,8 @@ std::string stats(std::vector<double> v) {
     std::snprintf(buf, sizeof buf, "none of %zu", v.size());
   } else {
     std::sort(ok.begin(), ok.end());
-    std::snprintf(buf, sizeof buf, "median %.0f s, max %.0f s, missed %d of %zu", ok[ok.size() / 2], ok.back(), missed,
-                  v.size());
+    std::snprintf(buf, sizeof buf, "median %.0f s, max %.0f s, missed %d of %zu", ok[ok.size() / 2],
+                  ok.back(), missed, v.size());
   }
   return buf;
 }
@@ -90,15 +90,18 @@ int main(int argc, char** argv) {
   if (positional.size() > 0) healthy_seconds = std::atof(positional[0].c_str());
   if (positional.size() > 1) seeds = std::atoi(positional[1].c_str());
   const TurbineParams p;
-  const DetectorConfig cfg = config_file.empty()
-                                 ? load_detector_config(YamlSection(YAML::Node(YAML::NodeType::Map), "(defaults)"), p)
-                                 : load_detector_config(YamlSection::load_file(config_file), p);
+  const DetectorConfig cfg =
+      config_file.empty()
+          ? load_detector_config(YamlSection(YAML::Node(YAML::NodeType::Map), "(defaults)"), p)
+          : load_detector_config(YamlSection::load_file(config_file), p);
   const double j0 = p.lumped_inertia();
-  const double kg_per_share = j0 * p.gear_ratio * p.gear_ratio / (p.ice_radius * p.ice_radius);  // kg for +100 %
+  const double kg_per_share =
+      j0 * p.gear_ratio * p.gear_ratio / (p.ice_radius * p.ice_radius);  // kg for +100 %
 
-  std::printf("ice_detect on the two-mass plant, 12 %% turbulence, benchmark noise, P from the model on the "
-              "anemometer; %d seeds\n\n",
-              seeds);
+  std::printf(
+      "ice_detect on the two-mass plant, 12 %% turbulence, benchmark noise, P from the model on the "
+      "anemometer; %d seeds\n\n",
+      seeds);
   std::printf("| wind m/s | inertia rms error after 600 s | worst |\n|---|---|---|\n");
   for (double wind : {8.0, 12.0, 16.0, 20.0}) {
     double rms = 0, worst = 0;
@@ -130,7 +133,8 @@ int main(int argc, char** argv) {
       shed.type = "ice_shedding";
       shed.fraction = 0.03 * kg_per_share / 3000.0;
       shed.start = 900;
-      shedding.push_back(first_raise(run(cfg, wind, 1200, {shed}, 3000.0, 700 + 10 * s), "ice_shedding", 900));
+      shedding.push_back(
+          first_raise(run(cfg, wind, 1200, {shed}, 3000.0, 700 + 10 * s), "ice_shedding", 900));
     }
   std::printf("\n5 %% inertia increase (%.0f kg over 60 s) at 8/10/12 m/s: flagged %s after its start\n",
               0.05 * kg_per_share, stats(accretion).c_str());
@@ -141,7 +145,8 @@ int main(int argc, char** argv) {
   for (double wind : {8.0, 12.0, 16.0, 20.0}) {
     int raised = 0;
     for (int s = 0; s < seeds; ++s)
-      for (const auto& e : run(cfg, wind, healthy_seconds, {}, 0.0, 800 + 10 * s + static_cast<uint64_t>(wind)).events)
+      for (const auto& e :
+           run(cfg, wind, healthy_seconds, {}, 0.0, 800 + 10 * s + static_cast<uint64_t>(wind)).events)
         raised += e.raised;
     std::printf(" %.0f m/s: %d;", wind, raised);
   }
@@ -151,7 +156,8 @@ int main(int argc, char** argv) {
   for (double wind : {8.0, 10.0, 12.0}) {
     int raised = 0;
     for (int s = 0; s < seeds; ++s)
-      for (const auto& e : run(cfg, wind, healthy_seconds, {}, 3000.0, 900 + 10 * s + static_cast<uint64_t>(wind)).events)
+      for (const auto& e :
+           run(cfg, wind, healthy_seconds, {}, 3000.0, 900 + 10 * s + static_cast<uint64_t>(wind)).events)
         raised += e.raised && e.fault == "ice_shedding";
     std::printf(" %.0f m/s: %d;", wind, raised);
   }

@@ -1,8 +1,8 @@
 // The value of the arbiter's fault-tolerant IPC (issue 8): true blade loads when blade 2's root moment sensor
 // fails (gain 1.1, stuck, intermittent, dead, gain 2) with IPC left on the strain gauges (no arbiter) versus
-// switched to the LIDAR load model after a detection-and-reaction delay, and with IPC off. Loads: the true first-harmonic amplitude and a
-// damage-equivalent load (rainflow, Woehler exponent 10 for glass-fibre blades, 1 Hz equivalent cycles).
-// Medians over seeds. Usage: ipc_value [DELAY_S=5] [SEEDS=3]
+// switched to the LIDAR load model after a detection-and-reaction delay, and with IPC off. Loads: the true
+// first-harmonic amplitude and a damage-equivalent load (rainflow, Woehler exponent 10 for glass-fibre
+// blades, 1 Hz equivalent cycles). Medians over seeds. Usage: ipc_value [DELAY_S=5] [SEEDS=3]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -20,8 +20,10 @@ namespace {
 double damage_equivalent_load(const std::vector<double>& x, double m, double n_eq) {
   std::vector<double> tp;
   for (std::size_t i = 0; i < x.size(); ++i) {
-    if (tp.size() >= 2 && (x[i] - tp.back()) * (tp.back() - tp[tp.size() - 2]) >= 0) tp.back() = x[i];
-    else if (tp.empty() || x[i] != tp.back()) tp.push_back(x[i]);
+    if (tp.size() >= 2 && (x[i] - tp.back()) * (tp.back() - tp[tp.size() - 2]) >= 0)
+      tp.back() = x[i];
+    else if (tp.empty() || x[i] != tp.back())
+      tp.push_back(x[i]);
   }
   std::vector<double> stack;
   double damage = 0.0;
@@ -40,7 +42,8 @@ double damage_equivalent_load(const std::vector<double>& x, double m, double n_e
       }
     }
   }
-  for (std::size_t i = 1; i < stack.size(); ++i) damage += 0.5 * std::pow(std::fabs(stack[i] - stack[i - 1]), m);
+  for (std::size_t i = 1; i < stack.size(); ++i)
+    damage += 0.5 * std::pow(std::fabs(stack[i] - stack[i - 1]), m);
   return std::pow(damage / n_eq, 1.0 / m);
 }
 
@@ -55,7 +58,11 @@ struct SensorFailure {
   const char* type;
   double gain;
 };
-const SensorFailure kFailures[] = {{"gain 1.1", "gain", 1.1}, {"stuck", "stuck", 1.0}, {"intermittent 1.3", "intermittent", 1.3}, {"dead (reads 0)", "gain", 0.0}, {"gain 2", "gain", 2.0}};
+const SensorFailure kFailures[] = {{"gain 1.1", "gain", 1.1},
+                                   {"stuck", "stuck", 1.0},
+                                   {"intermittent 1.3", "intermittent", 1.3},
+                                   {"dead (reads 0)", "gain", 0.0},
+                                   {"gain 2", "gain", 2.0}};
 
 Loads run(const SensorFailure* fault, int policy, double delay, uint64_t seed) {
   // policy 0: IPC on the strain gauges throughout; 1: the arbiter switches IPC to the LIDAR model
@@ -106,14 +113,15 @@ int main(int argc, char** argv) {
   const int seeds = argc > 2 ? std::atoi(argv[2]) : 3;
   const char* names[] = {"healthy sensor, IPC on strain gauges", "failed sensor, no arbiter (strain gauges)",
                          "failed sensor, arbiter -> LIDAR-model IPC", "failed sensor, IPC off"};
-  std::printf("blade 2 true loads, 16 m/s, shear 0.25, TI 0.1, blade 2's gauge fails at 100 s, switch after %.0f s, "
-              "median of %d seeds (evaluated 200-700 s)\n",
-              delay, seeds);
+  std::printf(
+      "blade 2 true loads, 16 m/s, shear 0.25, TI 0.1, blade 2's gauge fails at 100 s, switch after %.0f s, "
+      "median of %d seeds (evaluated 200-700 s)\n",
+      delay, seeds);
   for (const auto& failure : kFailures) {
     std::vector<double> a1[4], del[4];
     for (int s = 1; s <= seeds; ++s) {
-      const Loads cases[] = {run(nullptr, 0, delay, s), run(&failure, 0, delay, s), run(&failure, 1, delay, s),
-                             run(&failure, 2, delay, s)};
+      const Loads cases[] = {run(nullptr, 0, delay, s), run(&failure, 0, delay, s),
+                             run(&failure, 1, delay, s), run(&failure, 2, delay, s)};
       for (int c = 0; c < 4; ++c) {
         a1[c].push_back(cases[c].a1);
         del[c].push_back(cases[c].del);
@@ -121,8 +129,8 @@ int main(int argc, char** argv) {
     }
     std::printf("gauge failure: %s\n", failure.name);
     for (int c = 0; c < 4; ++c)
-      std::printf("  %-44s 1P amplitude %7.0f kN m   DEL(m=10) %7.0f kN m   (%.2f / %.2f of healthy)\n", names[c],
-                  median(a1[c]) / 1e3, median(del[c]) / 1e3, median(a1[c]) / median(a1[0]),
+      std::printf("  %-44s 1P amplitude %7.0f kN m   DEL(m=10) %7.0f kN m   (%.2f / %.2f of healthy)\n",
+                  names[c], median(a1[c]) / 1e3, median(del[c]) / 1e3, median(a1[c]) / median(a1[0]),
                   median(del[c]) / median(del[0]));
   }
   return 0;

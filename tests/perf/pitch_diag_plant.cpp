@@ -1,7 +1,7 @@
 // Measures windfdi-pitch-diag's methods (seed 002 paper modes and the default) on the same plant recordings:
-// detection delay of abrupt Table 1 faults in region 3 and false alarms in healthy hours, with the benchmark's
-// 0.2 deg pitch noise. Usage: pitch_diag_plant [healthy_seconds=3600] [method ...] (default: every method);
-// VERBOSE=1 lists the runs that were missed, wrong or slower than 10 s.
+// detection delay of abrupt Table 1 faults in region 3 and false alarms in healthy hours, with the
+// benchmark's 0.2 deg pitch noise. Usage: pitch_diag_plant [healthy_seconds=3600] [method ...] (default:
+// every method); VERBOSE=1 lists the runs that were missed, wrong or slower than 10 s.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -65,8 +65,8 @@ int main(int argc, char** argv) {
     methods.push_back(m);
   }
   if (methods.empty())
-    methods = {Method::kBank, Method::kOeRls, Method::kPaperMifg, Method::kPaperRls, Method::kAmMifg,
-               Method::kAmRls};
+    methods = {Method::kBank,     Method::kOeRls,  Method::kPaperMifg,
+               Method::kPaperRls, Method::kAmMifg, Method::kAmRls};
 
   // Fault recordings: every Table 1 fault on every blade, abrupt at 60 s, at 14, 17 and 20 m/s.
   struct FaultRun {
@@ -91,15 +91,19 @@ int main(int argc, char** argv) {
   std::map<double, std::vector<FrameSample>> healthy;
   for (double wind : {8.0, 12.0, 16.0, 20.0}) healthy[wind] = record(wind, healthy_seconds, {}, ++seed);
 
-  std::printf("pitch_diag on plant recordings (12 %% turbulence, 0.2 deg pitch noise); faults abrupt at %.0f s, "
-              "27 runs of 120 s after the onset at 14/17/20 m/s; healthy %.0f s at each of 8/12/16/20 m/s\n\n",
-              t_on, healthy_seconds);
-  std::printf("| method | right first event | wrong first | missed | delay median / max s | within 10 s at 14/17/20 m/s | "
-              "false alarms 8/12/16/20 m/s | blade-samples/s |\n|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "pitch_diag on plant recordings (12 %% turbulence, 0.2 deg pitch noise); faults abrupt at %.0f s, "
+      "27 runs of 120 s after the onset at 14/17/20 m/s; healthy %.0f s at each of 8/12/16/20 m/s\n\n",
+      t_on, healthy_seconds);
+  std::printf(
+      "| method | right first event | wrong first | missed | delay median / max s | within 10 s at 14/17/20 "
+      "m/s | "
+      "false alarms 8/12/16/20 m/s | blade-samples/s |\n|---|---|---|---|---|---|---|---|\n");
   for (Method m : methods) {
     PitchDiagConfig cfg;
     cfg.identifier.method = m;
-    if (m == Method::kPaperMifg || m == Method::kPaperRls) cfg.identifier.highpass_hz = 0.0;  // raw, as printed
+    if (m == Method::kPaperMifg || m == Method::kPaperRls)
+      cfg.identifier.highpass_hz = 0.0;  // raw, as printed
     int right = 0, wrong = 0, missed = 0;
     std::map<double, int> within;
     std::vector<double> delays;
@@ -116,8 +120,9 @@ int main(int argc, char** argv) {
         }
       if (!first) {
         ++missed;
-        if (verbose) std::printf("  %s: missed %s on blade %d at %.0f m/s\n", method_name(m), r.fault.c_str(),
-                                 r.blade + 1, r.wind);
+        if (verbose)
+          std::printf("  %s: missed %s on blade %d at %.0f m/s\n", method_name(m), r.fault.c_str(),
+                      r.blade + 1, r.wind);
         continue;
       }
       if (first->fault == r.fault && first->component == "pitch_actuator_" + std::to_string(r.blade + 1) &&
@@ -144,9 +149,9 @@ int main(int argc, char** argv) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     double dmax = 0;
     for (double d : delays) dmax = std::max(dmax, d);
-    std::printf("| %s | %d/27 | %d | %d | %.1f / %.1f | %d/%d/%d of 9 | %s | %.1f M |\n", method_name(m), right,
-                wrong, missed, median(delays), dmax, within[14.0], within[17.0], within[20.0], false_alarms.c_str(),
-                3.0 * samples / wall / 1e6);
+    std::printf("| %s | %d/27 | %d | %d | %.1f / %.1f | %d/%d/%d of 9 | %s | %.1f M |\n", method_name(m),
+                right, wrong, missed, median(delays), dmax, within[14.0], within[17.0], within[20.0],
+                false_alarms.c_str(), 3.0 * samples / wall / 1e6);
   }
   return 0;
 }
