@@ -49,6 +49,18 @@ class Wakeup {
   bool pending_ = false;
 };
 
+/// The type support of a topic type. Its TypeObject stays registered locally (the SQL content filter needs
+/// it) but is not announced in discovery: Debian's fast-discovery-server 2.9.1 crashes building a dynamic
+/// type from the announced type objects (TypeObjectFactory::get_sequence_identifier), and nothing in windfdi
+/// uses remote type discovery.
+template <class PubSub>
+eprosima::fastdds::dds::TypeSupport type_support() {
+  eprosima::fastdds::dds::TypeSupport type(new PubSub());
+  type->auto_fill_type_object(false);
+  type->auto_fill_type_information(false);
+  return type;
+}
+
 /// Counts what a writer or reader sees of its peers; read from the node's loop.
 struct EndpointStatus {
   std::atomic<int> matched{0};
@@ -68,7 +80,7 @@ class Writer : private eprosima::fastdds::dds::DataWriterListener {
                   const std::function<void(eprosima::fastdds::dds::DataWriterQos&)>& adjust = {})
       : participant_(participant) {
     using namespace eprosima::fastdds::dds;
-    auto* topic = participant.topic(Traits::name, TypeSupport(new typename Traits::PubSub()));
+    auto* topic = participant.topic(Traits::name, type_support<typename Traits::PubSub>());
     DataWriterQos qos;
     if (participant.publisher()->get_datawriter_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK)
       throw std::runtime_error("no data_writer QoS profile '" + profile + "'");
@@ -160,7 +172,7 @@ class Reader : private eprosima::fastdds::dds::DataReaderListener {
       : participant_(participant), wakeup_(wakeup) {
     using namespace eprosima::fastdds::dds;
     auto* topic =
-        participant.topic_for_turbines(Traits::name, TypeSupport(new typename Traits::PubSub()), turbine_ids);
+        participant.topic_for_turbines(Traits::name, type_support<typename Traits::PubSub>(), turbine_ids);
     DataReaderQos qos;
     if (participant.subscriber()->get_datareader_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK)
       throw std::runtime_error("no data_reader QoS profile '" + profile + "'");
