@@ -24,6 +24,8 @@ BladeLoadMonitor::BladeLoadMonitor(const MonitorConfig& config, LoadTable table)
   for (int b = 0; b < 3; ++b) {
     sensor_[b] = std::make_unique<HarmonicEstimator>(cfg_.harmonic);
     model_[b] = std::make_unique<HarmonicEstimator>(cfg_.harmonic);
+    blades_[b].run_start.fill(-1.0);
+    blades_[b].episode = EpisodeClassifier(cfg_.episode);
   }
   witness_crit_ = student_t_critical(cfg_.witness_significance, 1e6);
 }
@@ -324,8 +326,10 @@ void BladeLoadMonitor::revolution(double t, std::vector<FaultEvent>& events) {
       for (int c = 0; c < kChannels; ++c) {
         HealthyStats& h = healthy_[b][c];
         const double v = x[b][c];
-        if (!h.learned || !std::isfinite(v) || blades_[b].exceed_count > 0) continue;
-        const double d = v - h.mean;
+        if (!h.learned || !std::isfinite(v) || blades_[b].exceeding) continue;
+        // Winsorised: one gust transient must not inflate (or drag) the healthy statistics.
+        const double lim = cfg_.robust_clip * h.sd();
+        const double d = std::clamp(v - h.mean, -lim, lim);
         h.mean += w * d;
         h.var += w * (d * d - h.var);
       }
@@ -342,7 +346,7 @@ void BladeLoadMonitor::maybe_adapt(double t) {
   shear_sum_ = lambda_sum_ = pitch_sum_ = 0.0;
   bool ok = cfg_.adapt && lidar_ok_ && std::isfinite(shear) && std::fabs(shear) < cfg_.uniform_shear &&
             healthy_[0][kMeanChannel].learned && !any_raised();
-  for (int b = 0; b < 3; ++b) ok = ok && sensor_valid_[b] && model_valid_[b] && blades_[b].exceed_count == 0;
+  for (int b = 0; b < 3; ++b) ok = ok && sensor_valid_[b] && model_valid_[b] && !blades_[b].exceeding;
   if (!ok) {
     adapt_n_ = 0;
     return;
@@ -398,111 +402,111 @@ void BladeLoadMonitor::tick(double t, std::vector<FaultEvent>& events) {
       tv[b][c] = healthy_[b][c].learned && std::isfinite(x[b][c]) ? healthy_[b][c].outlier_t(x[b][c]) : kNaN;
       if (std::isfinite(tv[b][c]) && crit_[c] > 0) max_ratio_[c] = std::max(max_ratio_[c], std::fabs(tv[b][c]) / crit_[c]);
     }
+  // Per blade: which eligible channels exceed now, and for how long each has done so with the same sign.
+  // A sensor fault is on ONE blade and stays: it must persist for confirm_time and at least
+  // confirm_revolutions (a single-revolution transient leaves the one-revolution window after one revolution,
+  // and the pitch-control transients seen in turbulence flip sign from one revolution to the next).
+  const double confirm_time = std::max(cfg_.confirm_time, cfg_.confirm_revolutions * rev_time_);
   for (int b = 0; b < 3; ++b) {
-    int best_c = -1;
-    double best = 0.0;
+    BladeState& B = blades_[b];
+    int best_c = -1, conf_c = -1;
+    double best = 0.0, conf_best = 0.0;
     for (int c = 0; c < kChannels; ++c) {
       const double v = tv[b][c];
-      if (!std::isfinite(v) || std::fabs(v) <= crit_[c]) continue;
-      if (!standalone(c)) continue;
-      if (c == kModelChannel) {
-        if (cfg_.witness == Witness::kConfirm &&
-            !(std::isfinite(tv[b][kWitnessChannel]) && v * tv[b][kWitnessChannel] < 0 &&
-              std::fabs(tv[b][kWitnessChannel]) > witness_crit_))
-          continue;
-      } else {
-        bool largest = true;
+      // A run starts at the onset level (onset_ratio of the critical value); raising needs the critical value.
+      bool exceeds = std::isfinite(v) && std::fabs(v) > cfg_.onset_ratio * crit_[c] && standalone(c);
+      if (exceeds && c == kModelChannel) {
+        exceeds = cfg_.witness != Witness::kConfirm ||
+                  (std::isfinite(tv[b][kWitnessChannel]) && v * tv[b][kWitnessChannel] < 0 &&
+                   std::fabs(tv[b][kWitnessChannel]) > witness_crit_);
+      } else if (exceeds) {
+        // Single-fault isolation, the other two blades as witnesses: a faulty blade b moves its own cross
+        // residual by delta and the others' by -delta / 2, so b must differ from EACH other blade, in the
+        // direction of its own excursion, by at least isolation_ratio of its distance to their mean. A
+        // common-mode excursion leaves the cross residuals alone; a rotating (1P) pattern rarely passes,
+        // and never persistently with one sign.
+        const double dev = x[b][c] - 0.5 * (x[(b + 1) % 3][c] + x[(b + 2) % 3][c]);
         for (int o = 0; o < 3; ++o)
-          if (o != b && std::isfinite(tv[o][c]) && std::fabs(tv[o][c]) > std::fabs(v)) largest = false;
-        if (!largest) continue;
+          if (o != b && !((x[b][c] - x[o][c]) * (dev > 0 ? 1.0 : -1.0) >= cfg_.isolation_ratio * std::fabs(dev)))
+            exceeds = false;
       }
-      if (std::fabs(v) / crit_[c] > best) {
-        best = std::fabs(v) / crit_[c];
-        best_c = c;
+      const int sign = v > 0 ? 1 : -1;
+      if (!exceeds) {
+        B.run_start[c] = -1.0;
+        continue;
       }
+      if (B.run_start[c] < 0 || B.run_sign[c] != sign) {
+        B.run_start[c] = t;
+        B.run_sign[c] = sign;
+      }
+      const double r = std::fabs(v) / crit_[c];
+      if (r <= 1.0) continue;
+      if (r > best) best = r, best_c = c;
+      if (t - B.run_start[c] >= confirm_time - 1e-9 && r > conf_best) conf_best = r, conf_c = c;
     }
+    B.exceeding = best_c >= 0;
+    const int c = conf_c >= 0 ? conf_c : best_c;
     double size = 0.0;
-    if (best_c == kModelChannel || best_c == kWitnessChannel) size = a_sensor_[b] - a_model_[b];
-    if (best_c == kRawWitnessChannel) size = a_sensor_[b] - avg_others(a_sensor_, b);
-    if (best_c == kMeanChannel) size = mean_sensor_[b] - mean_model_[b] * avg_others(
-        {mean_sensor_[0] / mean_model_[0], mean_sensor_[1] / mean_model_[1], mean_sensor_[2] / mean_model_[2]}, b);
-    if (best_c == kRawMeanChannel) size = mean_sensor_[b] - avg_others(mean_sensor_, b);
-    blade_decision(b, t, best_c >= 0, best_c >= 0 ? tv[b][best_c] : 0.0, best_c >= 0 ? crit_[best_c] : 0.0, best_c,
-                   size, events);
+    if (c == kModelChannel || c == kWitnessChannel) size = a_sensor_[b] - a_model_[b];
+    if (c == kRawWitnessChannel) size = a_sensor_[b] - avg_others(a_sensor_, b);
+    if (c == kMeanChannel)
+      size = mean_sensor_[b] - mean_model_[b] * avg_others({mean_sensor_[0] / mean_model_[0],
+                                                            mean_sensor_[1] / mean_model_[1],
+                                                            mean_sensor_[2] / mean_model_[2]},
+                                                           b);
+    if (c == kRawMeanChannel) size = mean_sensor_[b] - avg_others(mean_sensor_, b);
+    blade_decision(b, t, B.exceeding, conf_c >= 0, c >= 0 ? tv[b][c] : 0.0, c >= 0 ? crit_[c] : 0.0, c, size,
+                   events);
   }
 }
 
-void BladeLoadMonitor::blade_decision(int b, double t, bool outlier, double stat, double critical, int channel,
-                                      double size, std::vector<FaultEvent>& events) {
+void BladeLoadMonitor::blade_decision(int b, double t, bool outlier, bool outlier_confirmed, double stat,
+                                      double critical, int channel, double size, std::vector<FaultEvent>& events) {
   BladeState& B = blades_[b];
   const bool drift = B.drift_firing;
-  // An episode is active while the outlier test fires (and, for a raised drift, while the drift test does).
-  const bool active = outlier || (drift && (B.raised.empty() || B.raised == "sensor_drift"));
-  if (active) {
-    ++B.exceed_count;
-    B.quiet_since = -1.0;
-  } else {
-    B.exceed_count = 0;
-    if (B.quiet_since < 0) B.quiet_since = t;
-  }
-  auto raise = [&](const std::string& cls) {
-    FaultEvent e = event(t, kComponent[b], cls, true);
-    const bool by_drift = !outlier;
-    const int c = by_drift ? B.drift_channel : channel;
-    e.statistic = by_drift ? B.drift_t : stat;
-    e.threshold = by_drift ? drift_crit_[std::max(c, 0)] : critical;
-    e.size = size;
-    if (by_drift && c >= 0) {
-      // The window's mean residual, back in N m.
-      const double mean_all = (mean_sensor_[0] + mean_sensor_[1] + mean_sensor_[2]) / 3.0;
-      const double v = blades_[b].history.back()[c] - healthy_[b][c].mean;
-      e.size = c == kModelChannel ? -v * mean_all : v * mean_all;
+  // The episode's evidence: the outlier test, and for a drift (raised or not yet) the moving-window test.
+  const bool drift_counts = drift && (B.raised.empty() || B.raised == "sensor_drift");
+  const bool active = outlier || drift_counts;
+  // The moving-window test also reacts to a step (its window mean jumps): a step is the outlier test's to
+  // classify, so the drift test raises only while the single-revolution values are still below threshold.
+  const bool by_drift = !outlier && drift_counts;
+  const bool confirmed = outlier_confirmed || by_drift;
+  std::string cls = "sensor_drift";
+  if (outlier_confirmed) {
+    // Step or ramp? Compare with the residual a few revolutions ago.
+    const auto& h = B.t_history;
+    const int back = cfg_.abrupt_lookback;
+    cls = "sensor_abrupt";
+    if (static_cast<int>(h.size()) > back && channel >= 0) {
+      const double past = h[h.size() - 1 - back][channel];
+      if (std::isfinite(past) && std::fabs(past) >= cfg_.abrupt_ratio * critical) cls = "sensor_drift";
     }
-    e.detail = std::string(by_drift ? "moving-window mean test on " : "outlier t-test on ") +
-               (c >= 0 ? channel_name(c) : "?") + (lidar_ok_ ? "" : " (no LIDAR: sensor-only)");
-    events.push_back(e);
-    B.raised = cls;
-    B.raised_at = t;
-    B.returned = false;
-  };
-  auto clear = [&]() {
-    FaultEvent e = event(t, kComponent[b], B.raised, false);
-    e.t_detected = B.raised_at;
-    events.push_back(e);
-    B.raised.clear();
-  };
-  const bool confirmed = B.exceed_count >= cfg_.confirm_count || (drift && B.exceed_count >= 1 && !outlier);
-  if (B.raised.empty()) {
-    if (!confirmed) return;
-    std::string cls = "sensor_drift";
-    if (outlier) {
-      // Step or ramp? Compare with the residual a few revolutions ago.
-      const auto& h = B.t_history;
-      const int back = cfg_.abrupt_lookback;
-      if (static_cast<int>(h.size()) > back) {
-        const double past = h[h.size() - 1 - back][channel];
-        if (!std::isfinite(past) || std::fabs(past) < cfg_.abrupt_ratio * critical) cls = "sensor_abrupt";
-      } else {
-        cls = "sensor_abrupt";
+  }
+  std::vector<Transition> tr;
+  const double raised_at = B.episode.raised_at();
+  B.episode.update(t, active, confirmed, cls, tr);
+  for (const auto& x : tr) {
+    FaultEvent e = event(t, kComponent[b], x.fault, x.raised);
+    if (x.raised) {
+      const int c = by_drift ? B.drift_channel : channel;
+      e.statistic = by_drift ? B.drift_t : stat;
+      e.threshold = by_drift ? drift_crit_[std::max(c, 0)] : critical;
+      e.size = size;
+      if (by_drift && c >= 0) {
+        // The window's mean residual, back in N m.
+        const double mean_all = (mean_sensor_[0] + mean_sensor_[1] + mean_sensor_[2]) / 3.0;
+        const double v = B.history.back()[c] - healthy_[b][c].mean;
+        e.size = c == kModelChannel ? -v * mean_all : v * mean_all;
       }
+      e.detail = std::string(by_drift ? "moving-window mean test on " : "persistent outlier t-test on ") +
+                 (c >= 0 ? channel_name(c) : "?") + (lidar_ok_ ? "" : " (no LIDAR: sensor-only)");
+      if (x.fault == "sensor_intermittent") e.detail += "; evidence returned to healthy and reappeared";
+    } else {
+      e.t_detected = raised_at;
     }
-    raise(cls);
-    return;
+    events.push_back(e);
   }
-  if (!B.returned) {
-    if (!active && t - B.quiet_since >= cfg_.return_time) B.returned = true;
-    return;
-  }
-  if (confirmed) {
-    // The fault came back: it comes and goes.
-    if (t - B.quiet_since <= cfg_.intermittent_window && B.raised != "sensor_intermittent") {
-      clear();
-      raise("sensor_intermittent");
-    }
-    B.returned = false;
-    return;
-  }
-  if (!active && t - B.quiet_since >= cfg_.clear_time) clear();
+  B.raised = B.episode.raised();
 }
 
 bool BladeLoadMonitor::estimate_due(BladeLoadOutput& out) {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "episode_classifier.hpp"
 #include "fault_event.hpp"
 #include "frame_sample.hpp"
 #include "harmonic_ls.hpp"
@@ -28,22 +29,26 @@ struct MonitorConfig {
   double min_rotor_speed = 0.5;     ///< rad/s; below it (standstill, idling) nothing is estimated
   double max_moment = 5e7;          ///< N m, |blade moment| above it is out of range (sensor_invalid)
   double invalid_time = 1.0;        ///< s a blade moment or the LIDAR must stay invalid before sensor_invalid
-  double min_a1_share = 0.02;       ///< floor of the amplitude normalisation, share of the mean load (-)
   // Detection (seed 000: t-test per sample for outliers, moving-window mean test for drift).
   double significance = 1e-8;       ///< two-sided level of the outlier t-test per 10 Hz sample (0..0.1)
-  double drift_significance = 1e-6; ///< two-sided level of the moving-window mean test per revolution
+  double drift_significance = 1e-8; ///< two-sided level of the moving-window mean test per revolution
   int drift_window = 10;            ///< revolutions in the moving-window mean
-  double learn_time = 300.0;        ///< s of healthy start-up from which each residual's distribution is learned
-  int min_learn_revolutions = 40;   ///< and at least this many revolutions
+  double learn_time = 100.0;        ///< s of healthy start-up from which each residual's distribution is learned
+                                    ///< (robust: median and MAD of one value per revolution)
+  int min_learn_revolutions = 20;   ///< and at least this many revolutions
   double healthy_adapt_time = 3600; ///< s, time constant of the slow healthy-statistics update (0: frozen);
                                     ///< applied only while nothing is raised on the turbine
-  int confirm_count = 10;           ///< consecutive 10 Hz exceedances to raise (1 s)
+  double confirm_time = 1.0;        ///< s of continuous same-sign exceedance of one channel to raise (0.1..600)
+  double confirm_revolutions = 1.1; ///< and at least this many revolutions (0..20): a single-revolution transient
+                                    ///< stays in the one-revolution window for exactly one revolution
+  double onset_ratio = 0.5;         ///< a run of exceedance starts above this share of the critical value (0.1..1)
+  double isolation_ratio = 0.5;     ///< cross-blade channels: the other two blades must agree with each other,
+                                    ///< |x_o1 - x_o2| <= this * |x_b - mean(x_o)| (a single-sensor fault, 0..2)
+  double robust_clip = 3.0;         ///< healthy adaptation: a value's deviation is clipped at this many sd
   double abrupt_ratio = 0.5;        ///< abrupt if two revolutions before detection |t| was below this share of
                                     ///< the critical value (the residual stepped), else drift (it ramped)
   int abrupt_lookback = 2;          ///< revolutions back for that comparison
-  double return_time = 3.0;         ///< s without exceedance: the fault episode is over (the sensor returned)
-  double intermittent_window = 120; ///< s: a new episode within this after a return makes it sensor_intermittent
-  double clear_time = 120.0;        ///< s after a return with no new episode: the fault clears
+  EpisodeConfig episode;            ///< return_time, intermittent_window, clear_time (episode_classifier.hpp)
   Witness witness = Witness::kConfirm;  ///< kConfirm: the LIDAR residual counts only if the cross-blade
                                         ///< amplitude residual agrees (sign and witness_significance)
   double witness_significance = 1e-2;  ///< two-sided level of that agreement
@@ -124,14 +129,14 @@ class BladeLoadMonitor {
   struct BladeState {
     std::deque<std::array<double, kChannels>> history;   // per-revolution values
     std::deque<std::array<double, kChannels>> t_history;  // per-revolution outlier t
-    int exceed_count = 0;
+    std::array<double, kChannels> run_start{};  // start of the channel's continuous same-sign exceedance (-1 none)
+    std::array<int, kChannels> run_sign{};
+    bool exceeding = false;     // any eligible channel above its threshold now
     bool drift_firing = false;
     double drift_t = 0.0;
     int drift_channel = -1;
-    std::string raised;         // class raised, "" none
-    double raised_at = 0.0;
-    bool returned = false;      // episode over, waiting for a new one or clearance
-    double quiet_since = -1.0;  // last exceedance-free start
+    std::string raised;         // class raised, "" none (mirrors the classifier)
+    EpisodeClassifier episode;
     double invalid_since = -1.0;
     bool invalid_raised = false;
   };
@@ -140,8 +145,8 @@ class BladeLoadMonitor {
   void tick(double t, std::vector<FaultEvent>& events);       // estimate rate
   void revolution(double t, std::vector<FaultEvent>& events); // once per revolution
   void channel_values(std::array<std::array<double, kChannels>, 3>& x) const;
-  void blade_decision(int b, double t, bool alarm, double stat, double crit, int channel, double size,
-                      std::vector<FaultEvent>& events);
+  void blade_decision(int b, double t, bool active, bool confirmed, double stat, double crit, int channel,
+                      double size, std::vector<FaultEvent>& events);
   void maybe_adapt(double t);
   FaultEvent event(double t, const std::string& component, const std::string& fault, bool raised) const;
   double crit(int channel) const;

@@ -147,10 +147,15 @@ void LidarLoadModel::add_lidar(double t, double vu, double vl) {
   const double v = 0.5 * (vu + vl);
   if (!have_adv_) {
     v_adv_ = v;
+    t_adv0_ = t;
     have_adv_ = true;
   } else {
+    // Until advection_time has passed, the running mean of everything seen (not the first sample, which is
+    // off by the turbulence, TI * V, and would bias D / V by as much for several advection times); then the
+    // first-order low-pass.
     const double dt = std::max(0.0, t - t_adv_);
-    v_adv_ += (v - v_adv_) * dt / (c_.advection_time + dt);
+    const double tau = std::min(c_.advection_time, std::max(t - t_adv0_, 0.0));
+    v_adv_ += (v - v_adv_) * dt / (tau + dt);
   }
   t_adv_ = t;
   while (history_.size() > 2 && history_.front()[0] < t - c_.max_delay) history_.pop_front();

@@ -81,7 +81,7 @@ class LidarLoadModel {
   LoadModelConfig c_;
   const LoadTable* table_;
   std::deque<std::array<double, 3>> history_;  // (t, upper, lower)
-  double v_adv_ = 0.0, t_adv_ = 0.0;
+  double v_adv_ = 0.0, t_adv_ = 0.0, t_adv0_ = 0.0;
   bool have_adv_ = false;
   double alpha_ = 0.0, v_hub_ = 0.0, lambda_ = 0.0;
 };

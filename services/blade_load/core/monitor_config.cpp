@@ -11,9 +11,9 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   y.require_known_keys({"turbine_file", "load_table_file", "state_file", "save_period", "regressor", "harmonics",
                         "revolutions", "window_samples", "mean_time", "reform_every", "min_rcond", "sample_rate",
                         "lidar_distance", "lidar_half_span", "tower_shadow", "shadow_width", "advection_time",
-                        "estimate_rate", "min_rotor_speed", "max_moment", "invalid_time", "min_a1_share",
+                        "estimate_rate", "min_rotor_speed", "max_moment", "invalid_time",
                         "significance", "drift_significance", "drift_window", "learn_time", "min_learn_revolutions",
-                        "healthy_adapt_time", "confirm_count", "abrupt_ratio", "abrupt_lookback", "return_time",
+                        "healthy_adapt_time", "confirm_time", "confirm_revolutions", "onset_ratio", "isolation_ratio", "robust_clip", "abrupt_ratio", "abrupt_lookback", "return_time",
                         "intermittent_window", "clear_time", "witness", "witness_significance", "mean_test", "adapt",
                         "uniform_shear", "adapt_revolutions", "adapt_gain", "adapt_bound", "adapt_sigma_lambda",
                         "adapt_sigma_pitch"});
@@ -43,19 +43,24 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   c.estimate_rate = y.get_number("estimate_rate", c.estimate_rate, 0.1, 100.0);
   c.max_moment = y.get_number("max_moment", c.max_moment, 1e3, 1e10);
   c.invalid_time = y.get_number("invalid_time", c.invalid_time, 0.0, 600.0);
-  c.min_a1_share = y.get_number("min_a1_share", c.min_a1_share, 1e-4, 1.0);
   c.significance = y.get_number("significance", c.significance, 1e-12, 0.1);
   c.drift_significance = y.get_number("drift_significance", c.drift_significance, 1e-12, 0.1);
   c.drift_window = static_cast<int>(y.get_number("drift_window", c.drift_window, 2, 1000));
   c.learn_time = y.get_number("learn_time", c.learn_time, 10.0, 1e6);
   c.min_learn_revolutions = static_cast<int>(y.get_number("min_learn_revolutions", c.min_learn_revolutions, 5, 1e6));
   c.healthy_adapt_time = y.get_number("healthy_adapt_time", c.healthy_adapt_time, 0.0, 1e8);
-  c.confirm_count = static_cast<int>(y.get_number("confirm_count", c.confirm_count, 1, 1000));
+  c.confirm_time = y.get_number("confirm_time", c.confirm_time, 0.1, 600.0);
+  c.confirm_revolutions = y.get_number("confirm_revolutions", c.confirm_revolutions, 0.0, 20.0);
+  c.onset_ratio = y.get_number("onset_ratio", c.onset_ratio, 0.1, 1.0);
+  c.isolation_ratio = y.get_number("isolation_ratio", c.isolation_ratio, 0.0, 2.0);
+  c.robust_clip = y.get_number("robust_clip", c.robust_clip, 1.0, 100.0);
   c.abrupt_ratio = y.get_number("abrupt_ratio", c.abrupt_ratio, 0.0, 1.0);
   c.abrupt_lookback = static_cast<int>(y.get_number("abrupt_lookback", c.abrupt_lookback, 1, 20));
-  c.return_time = y.get_number("return_time", c.return_time, 0.1, 3600.0);
-  c.intermittent_window = y.get_number("intermittent_window", c.intermittent_window, 1.0, 86400.0);
-  c.clear_time = y.get_number("clear_time", c.clear_time, 1.0, 86400.0);
+  EpisodeConfig& e = c.episode;
+  e.return_time = y.get_number("return_time", e.return_time, 0.1, 3600.0);
+  e.intermittent_window = y.get_number("intermittent_window", e.intermittent_window, 1.0, 86400.0);
+  // A fault must not clear before a recurrence could still make it intermittent.
+  e.clear_time = y.get_number("clear_time", e.clear_time, e.intermittent_window, 86400.0);
   c.witness = y.get_choice("witness", "confirm", {"confirm", "off"}) == "off" ? Witness::kOff : Witness::kConfirm;
   c.witness_significance = y.get_number("witness_significance", c.witness_significance, 1e-12, 0.5);
   c.mean_test = y.get<bool>("mean_test", c.mean_test);

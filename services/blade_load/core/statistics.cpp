@@ -75,17 +75,32 @@ HealthyStats HealthyLearner::freeze() const {
   HealthyStats s;
   const int n = size();
   if (n < 3) return s;
-  double mean = 0.0;
-  for (double v : values_) mean += v;
-  mean /= n;
+  auto median = [](std::vector<double> v) {
+    const std::size_t m = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + m, v.end());
+    const double hi = v[m];
+    if (v.size() % 2) return hi;
+    return 0.5 * (hi + *std::max_element(v.begin(), v.begin() + m));
+  };
+  const double med = median(values_);
+  std::vector<double> dev(values_.size());
+  for (std::size_t i = 0; i < dev.size(); ++i) dev[i] = std::fabs(values_[i] - med);
+  double sd = 1.4826 * median(dev);
+  if (!(sd > 0)) {  // more than half the values equal: fall back to the classical estimate
+    double var = 0.0;
+    for (double v : values_) var += (v - med) * (v - med);
+    sd = std::sqrt(var / (n - 1));
+  }
   double var = 0.0, cov = 0.0;
+  const double lim = 3.0 * sd;
   for (int i = 0; i < n; ++i) {
-    var += (values_[i] - mean) * (values_[i] - mean);
-    if (i > 0) cov += (values_[i] - mean) * (values_[i - 1] - mean);
+    const double d = std::clamp(values_[i] - med, -lim, lim);
+    var += d * d;
+    if (i > 0) cov += d * std::clamp(values_[i - 1] - med, -lim, lim);
   }
   s.n = n;
-  s.mean = mean;
-  s.var = var / (n - 1);
+  s.mean = med;
+  s.var = sd * sd;
   s.rho = var > 0 ? std::clamp(cov / var, 0.0, 0.95) : 0.0;
   s.learned = true;
   return s;

@@ -34,7 +34,8 @@ struct HealthyStats {
 class HealthyLearner {
  public:
   void add(double x) { values_.push_back(x); }
-  /// Freezes the statistics from the values seen (needs at least 3).
+  /// Freezes the statistics from the values seen (needs at least 3): robust, the median and 1.4826 * MAD (the
+  /// residuals are heavy-tailed in turbulence), the lag-1 autocorrelation from the values clipped at 3 sd.
   HealthyStats freeze() const;
   int size() const { return static_cast<int>(values_.size()); }
   void clear() { values_.clear(); }
