@@ -1,0 +1,257 @@
+// One turbine's speed and pitch sensor-bias estimation and detection (seed 001): drive-train and pitch observers.
+#include "bias_estimator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+namespace windfdi::sensor_bias {
+
+const std::array<const char*, kChannels>& channel_components() {
+  static const std::array<const char*, kChannels> c = {"rotor_speed_sensor", "generator_speed_sensor", "pitch_sensor_1",
+                                                       "pitch_sensor_2", "pitch_sensor_3"};
+  return c;
+}
+
+BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gain_dir) {
+  s.require_known_keys({"turbine_file", "mode", "drive_train_gains", "pitch_gains", "paper_drive_train_gains",
+                        "paper_pitch_gains", "threshold_rotor_speed", "threshold_generator_speed", "threshold_pitch",
+                        "raise_time", "clear_ratio", "clear_time", "filter_time", "settle_time", "rotor_speed_max",
+                        "generator_speed_max", "torque_max", "wind_max", "pitch_min", "pitch_max"});
+  BiasConfig c;
+  c.mode = s.get_choice("mode", "observer", {"observer", "paper"}) == "paper" ? Mode::kPaper : Mode::kObserver;
+  auto path = [&](const char* key, const std::string& fallback) {
+    if (!s.has(key)) return (std::filesystem::path(default_gain_dir) / fallback).string();
+    const std::filesystem::path f = s.get<std::string>(key, fallback);
+    return f.is_relative() ? (std::filesystem::path(s.file()).parent_path() / f).string() : f.string();
+  };
+  if (c.mode == Mode::kObserver) {
+    c.drive_train_gain_file = path("drive_train_gains", "gains_drive_train_observer.yaml");
+    c.pitch_gain_file = path("pitch_gains", "gains_pitch_observer.yaml");
+  } else {
+    c.drive_train_gain_file = path("paper_drive_train_gains", "gains_drive_train_paper.yaml");
+    c.pitch_gain_file = path("paper_pitch_gains", "gains_pitch_paper.yaml");
+  }
+  c.threshold[0] = s.get_number("threshold_rotor_speed", c.threshold[0], 1e-6, 5.0);
+  c.threshold[1] = s.get_number("threshold_generator_speed", c.threshold[1], 1e-4, 400.0);
+  c.threshold[2] = c.threshold[3] = c.threshold[4] = s.get_number("threshold_pitch", c.threshold[2], 1e-4, 90.0);
+  c.raise_time = s.get_number("raise_time", c.raise_time, 0.0, 3600.0);
+  c.clear_ratio = s.get_number("clear_ratio", c.clear_ratio, 0.0, 1.0);
+  c.clear_time = s.get_number("clear_time", c.clear_time, 0.0, 3600.0);
+  c.filter_time = s.get_number("filter_time", c.filter_time, 0.0, 600.0);
+  c.settle_time = s.get_number("settle_time", c.settle_time, 0.0, 3600.0);
+  c.rotor_speed_max = s.get_number("rotor_speed_max", c.rotor_speed_max, 0.1, 100.0);
+  c.generator_speed_max = s.get_number("generator_speed_max", c.generator_speed_max, 1.0, 10000.0);
+  c.torque_max = s.get_number("torque_max", c.torque_max, 1.0, 1e9);
+  c.wind_max = s.get_number("wind_max", c.wind_max, 1.0, 200.0);
+  c.pitch_min = s.get_number("pitch_min", c.pitch_min, -90.0, 90.0);
+  c.pitch_max = s.get_number("pitch_max", c.pitch_max, c.pitch_min, 180.0);
+  return c;
+}
+
+namespace {
+
+template <class Obs>
+void load_into(Obs& o, const GainFile& g, const char* what) {
+  if (g.A.rows() != o.A.rows() || g.B.cols() != o.B.cols() || g.C.rows() != o.C.rows())
+    throw ConfigError(g.file, 0, "A", std::string(what) + ": expected " + std::to_string(o.A.rows()) + " states, " +
+                                           std::to_string(o.B.cols()) + " inputs, " + std::to_string(o.C.rows()) +
+                                           " outputs; the gain file has " + std::to_string(g.A.rows()) + ", " +
+                                           std::to_string(g.B.cols()) + ", " + std::to_string(g.C.rows()));
+  o.A = g.A;
+  o.B = g.B;
+  o.C = g.C;
+  o.K = g.K;
+}
+
+bool in(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
+
+}  // namespace
+
+BiasEstimator::BiasEstimator(const BiasConfig& config, const GainFile& dt, const GainFile& pitch,
+                             const TurbineParams& turbine)
+    : cfg_(config), turbine_(turbine), aero_(turbine), aero_damping_(dt.aero_damping) {
+  const bool paper = cfg_.mode == Mode::kPaper;
+  if ((dt.structure == "paper") != paper || (pitch.structure == "paper") != paper)
+    throw ConfigError(paper ? dt.file : pitch.file, 0, "structure",
+                      std::string("mode ") + (paper ? "paper" : "observer") + " needs gain files of that structure");
+  if (paper) {
+    load_into(dt_paper_, dt, "drive train (paper mode)");
+    for (auto& p : pitch_paper_) load_into(p, pitch, "pitch (paper mode)");
+  } else {
+    load_into(dt_obs_, dt, "drive train (observer mode)");
+    for (auto& p : pitch_obs_) load_into(p, pitch, "pitch (observer mode)");
+  }
+  // The converter is first order: over a sample of T the mean torque moves (tau/T)(1 - exp(-T/tau)) of the way
+  // from the measured torque to its reference.
+  const double T = dt.sample_time, tau = turbine.converter_time_constant;
+  torque_avg_ = tau > 0.0 ? 1.0 - tau / T * (1.0 - std::exp(-T / tau)) : 1.0;
+  for (int j = 0; j < 2; ++j) bias_bound_[static_cast<std::size_t>(j)] = dt.bias_bound.size() > j ? dt.bias_bound(j) : 0.0;
+  for (int j = 2; j < kChannels; ++j) bias_bound_[static_cast<std::size_t>(j)] = pitch.bias_bound.size() > 0 ? pitch.bias_bound(0) : 0.0;
+}
+
+double BiasEstimator::aero_torque(const FrameSample& s) const {
+  if (std::isfinite(s.aero_torque)) return s.aero_torque;
+  if (!in(s.wind_hub, 0.0, cfg_.wind_max)) return kNaN;
+  // The model on measured wind and the bias-free rotor speed and pitch (a biased sensor must not bias the input).
+  const double omega = cfg_.mode == Mode::kPaper ? dt_paper_.state()(0) : dt_obs_.state()(0);
+  const double w = std::clamp(omega, 0.05, cfg_.rotor_speed_max);
+  double t = 0.0;
+  for (int i = 0; i < kBlades; ++i) {
+    const std::size_t c = static_cast<std::size_t>(2 + i);
+    const double beta = pitch_init_[static_cast<std::size_t>(i)] ? out_.corrected[c] : s.pitch[static_cast<std::size_t>(i)];
+    if (!std::isfinite(beta)) return kNaN;
+    const double b = std::clamp(beta, turbine_.pitch_min - 5.0, turbine_.pitch_max);
+    t += aero_.aero_torque(s.wind_hub, w, b) / 3.0;
+  }
+  return t;
+}
+
+bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events) {
+  if (!std::isfinite(s.t)) {
+    ++rejected_;
+    return false;
+  }
+  bool all_ok = true;
+  if (gap) start_ = -1.0;  // re-settle: the observers missed samples
+  if (start_ < 0.0) start_ = s.t;
+  out_.t = s.t;
+  const bool paper = cfg_.mode == Mode::kPaper;
+
+  // Pitch, blade by blade: state [beta, beta_dot, bias] driven by the reference.
+  for (int i = 0; i < kBlades; ++i) {
+    const std::size_t c = static_cast<std::size_t>(2 + i);
+    const double y = s.pitch[static_cast<std::size_t>(i)], r = s.pitch_ref[static_cast<std::size_t>(i)];
+    const bool ok = in(y, cfg_.pitch_min, cfg_.pitch_max) && in(r, cfg_.pitch_min, cfg_.pitch_max) &&
+                    (s.valid_mask & (kValidPitch1 << i)) && (s.valid_mask & (kValidPitchRef1 << i));
+    if (!ok) {
+      all_ok = false;
+      continue;
+    }
+    const Eigen::Matrix<double, 1, 1> yv(y), uv(r);
+    if (paper) {
+      auto& e = pitch_paper_[static_cast<std::size_t>(i)];
+      if (!pitch_init_[static_cast<std::size_t>(i)]) e.reset(Eigen::Vector2d(y, 0.0));
+      out_.bias[c] = e.step(yv, uv)(0);
+    } else {
+      auto& o = pitch_obs_[static_cast<std::size_t>(i)];
+      if (!pitch_init_[static_cast<std::size_t>(i)]) o.reset(Eigen::Vector3d(y, 0.0, 0.0));
+      o.step(yv, uv);
+      // The actuator is rate limited: so is its model's prediction (a saturated reference step is not a bias).
+      o.state()(1) = std::clamp(o.state()(1), -turbine_.pitch_rate_limit, turbine_.pitch_rate_limit);
+      out_.bias[c] = o.state()(2);
+    }
+    pitch_init_[static_cast<std::size_t>(i)] = true;
+    out_.corrected[c] = y - out_.bias[c];
+  }
+
+  // Drive train: state [omega_r, omega_g, theta, b_r, b_g], inputs [T_aero, T_g].
+  const bool speeds_ok = in(s.rotor_speed, 0.0, cfg_.rotor_speed_max) && in(s.generator_speed, 0.0, cfg_.generator_speed_max) &&
+                         in(s.gen_torque, -cfg_.torque_max, cfg_.torque_max) &&
+                         (s.valid_mask & kValidRotorSpeed) && (s.valid_mask & kValidGeneratorSpeed) && (s.valid_mask & kValidGenTorque);
+  double ta = kNaN;
+  if (speeds_ok) {
+    if (!dt_init_) {
+      // Start at the measured speeds and the torsion that carries the measured generator torque.
+      const double theta = turbine_.gear_ratio * (s.gen_torque + turbine_.generator_friction * s.generator_speed) /
+                           (turbine_.drive_train_efficiency * turbine_.drive_train_stiffness);
+      if (paper) dt_paper_.reset(Eigen::Vector3d(s.rotor_speed, s.generator_speed, theta));
+      else dt_obs_.reset((Eigen::Matrix<double, 5, 1>() << s.rotor_speed, s.generator_speed, theta, 0.0, 0.0).finished());
+    }
+    ta = aero_torque(s);
+  }
+  if (speeds_ok && in(ta, -cfg_.torque_max * 100.0, cfg_.torque_max * 100.0)) {
+    const double tg = std::isfinite(s.gen_torque_ref) && std::fabs(s.gen_torque_ref) <= cfg_.torque_max
+                          ? s.gen_torque + torque_avg_ * (s.gen_torque_ref - s.gen_torque)
+                          : s.gen_torque;
+    // The design's A holds -k_a omega_r (linearised aerodynamic damping); the input adds it back, so the model
+    // integrates the full nonlinear T_aero(omega_r) while the gain was designed for the damped error dynamics.
+    const double omega_hat = paper ? dt_paper_.state()(0) : dt_obs_.state()(0);
+    const Eigen::Vector2d y(s.rotor_speed, s.generator_speed), u(ta + aero_damping_ * omega_hat, tg);
+    if (paper) {
+      const auto& f = dt_paper_.step(y, u);
+      out_.bias[0] = f(0);
+      out_.bias[1] = f(1);
+      for (int j = 0; j < 3; ++j) out_.drive_train_state[static_cast<std::size_t>(j)] = dt_paper_.state()(j);
+    } else {
+      dt_obs_.step(y, u);
+      out_.bias[0] = dt_obs_.state()(3);
+      out_.bias[1] = dt_obs_.state()(4);
+      for (int j = 0; j < 3; ++j) out_.drive_train_state[static_cast<std::size_t>(j)] = dt_obs_.state()(j);
+    }
+    out_.corrected[0] = s.rotor_speed - out_.bias[0];
+    out_.corrected[1] = s.generator_speed - out_.bias[1];
+    out_.aero_torque = ta;
+    dt_init_ = true;
+    ++fed_dt_;
+  } else {
+    all_ok = false;
+  }
+  if (!all_ok) ++rejected_;
+  out_.bound_ratio = 0.0;
+  for (int c = 0; c < kChannels; ++c)
+    if (bias_bound_[static_cast<std::size_t>(c)] > 0.0)
+      out_.bound_ratio = std::max(out_.bound_ratio, std::fabs(out_.bias[static_cast<std::size_t>(c)]) / bias_bound_[static_cast<std::size_t>(c)]);
+  has_output_ = dt_init_ || pitch_init_[0] || pitch_init_[1] || pitch_init_[2];
+  detect(s.t, events);
+  return all_ok;
+}
+
+void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
+  const double dt = 0.01;
+  const double a = cfg_.filter_time > 0.0 ? 1.0 - std::exp(-dt / cfg_.filter_time) : 1.0;
+  static const char* kUnit[] = {"rad/s", "rad/s", "deg", "deg", "deg"};
+  for (int c = 0; c < kChannels; ++c) {
+    const std::size_t k = static_cast<std::size_t>(c);
+    filtered_[k] += a * (out_.bias[k] - filtered_[k]);
+    if (t - start_ < cfg_.settle_time) {
+      above_since_[k] = below_since_[k] = -1.0;
+      continue;
+    }
+    const double stat = std::fabs(filtered_[k]), thr = cfg_.threshold[k];
+    auto event = [&](bool raised, double since) {
+      FaultEvent e;
+      e.t = t;
+      e.t_detected = since;
+      e.source = "sensor_bias";
+      e.component = channel_components()[k];
+      e.fault = "sensor_bias";
+      e.raised = raised;
+      e.severity = "fault";
+      e.statistic = stat;
+      e.threshold = thr;
+      e.size = filtered_[k];
+      char d[200];
+      std::snprintf(d, sizeof d, "%s bias %+.4g %s (threshold %.4g, %s mode)", raised ? "estimated" : "cleared: estimated",
+                    filtered_[k], kUnit[c], thr, cfg_.mode == Mode::kPaper ? "paper" : "observer");
+      e.detail = d;
+      events.push_back(e);
+    };
+    if (!raised_[k]) {
+      if (stat >= thr) {
+        if (above_since_[k] < 0.0) above_since_[k] = t;
+        if (t - above_since_[k] >= cfg_.raise_time - 1e-9) {
+          raised_[k] = true;
+          below_since_[k] = -1.0;
+          event(true, above_since_[k]);
+        }
+      } else {
+        above_since_[k] = -1.0;
+      }
+    } else {
+      if (stat < cfg_.clear_ratio * thr) {
+        if (below_since_[k] < 0.0) below_since_[k] = t;
+        if (t - below_since_[k] >= cfg_.clear_time - 1e-9) {
+          raised_[k] = false;
+          above_since_[k] = -1.0;
+          event(false, below_since_[k]);
+        }
+      } else {
+        below_since_[k] = -1.0;
+      }
+    }
+  }
+}
+
+}  // namespace windfdi::sensor_bias

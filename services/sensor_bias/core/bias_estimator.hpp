@@ -1,0 +1,95 @@
+// One turbine's speed and pitch sensor-bias estimation and detection (seed 001): drive-train and pitch observers.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "design_input.hpp"
+#include "fault_event.hpp"
+#include "frame_sample.hpp"
+#include "observers.hpp"
+#include "turbine_params.hpp"
+#include "yaml_config.hpp"
+
+namespace windfdi::sensor_bias {
+
+enum class Mode { kObserver, kPaper };
+
+/// Channel order everywhere: rotor speed, generator speed, pitch 1..3.
+constexpr int kChannels = 5;
+const std::array<const char*, kChannels>& channel_components();  ///< canonical component names
+
+struct BiasConfig {
+  Mode mode = Mode::kObserver;  ///< observer (default, uses the measurements) or paper (eqs 5 + 8)
+  std::string drive_train_gain_file;  ///< gain file of windfdi-qb-design (observer: 5 states; paper: 3)
+  std::string pitch_gain_file;        ///< (observer: 3 states; paper: 2)
+  std::array<double, kChannels> threshold{0.017, 1.62, 0.5};  ///< |bias| to flag: rad/s, rad/s, deg (pitch: all 3)
+  double raise_time = 1.0;     ///< s the filtered |bias| must stay above its threshold before sensor_bias is raised
+  double clear_ratio = 0.5;    ///< clears below this share of the threshold (hysteresis), 0..1
+  double clear_time = 5.0;     ///< s below the clear level before it clears
+  double filter_time = 0.3;    ///< s, first-order low-pass on the bias estimate before the threshold test
+  double settle_time = 20.0;   ///< s after the first (or after a gap) sample before anything is raised
+  double rotor_speed_max = 5.0;        ///< rad/s; larger or negative: rejected
+  double generator_speed_max = 400.0;  ///< rad/s
+  double torque_max = 1e6;             ///< N m, |generator torque| and |aerodynamic torque|
+  double wind_max = 60.0;              ///< m/s
+  double pitch_min = -10.0, pitch_max = 95.0;  ///< deg, measured pitch and pitch reference
+};
+
+/// Loads the `sensor_bias` keys; gain files relative to the configuration file. Unknown keys and out-of-range
+/// values are ConfigErrors naming file and key.
+BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gain_dir);
+
+/// What the service publishes each sample.
+struct BiasOutput {
+  double t = 0.0;
+  std::array<double, kChannels> bias{};       ///< rad/s, rad/s, deg x 3
+  std::array<double, kChannels> corrected{};  ///< measured minus bias
+  double bound_ratio = 0.0;  ///< largest |bias| / the design's bias-error bound
+  double aero_torque = 0.0;  ///< N m, the input used (model or recording)
+  std::array<double, 3> drive_train_state{};  ///< omega_r, omega_g, theta estimates
+};
+
+/// One turbine: samples in, bias estimates, corrected measurements and sensor_bias events out.
+class BiasEstimator {
+ public:
+  BiasEstimator(const BiasConfig& config, const GainFile& drive_train, const GainFile& pitch, const TurbineParams& turbine);
+
+  /// Feeds one sample. Returns false when a subsystem's inputs were rejected (NaN, out of range, marked invalid):
+  /// counted and not fed. `aero_torque`: N m from the recording or NaN (then the model on measured wind and the
+  /// bias-corrected rotor speed and pitch). `gap`: samples lost before this one.
+  bool update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events);
+  const BiasOutput& output() const { return out_; }
+  bool has_output() const { return has_output_; }
+  uint64_t rejected() const { return rejected_; }
+  uint64_t fed_drive_train() const { return fed_dt_; }
+  const std::array<bool, kChannels>& raised() const { return raised_; }
+  Mode mode() const { return cfg_.mode; }
+
+ private:
+  double aero_torque(const FrameSample& s) const;
+  void detect(double t, std::vector<FaultEvent>& events);
+
+  BiasConfig cfg_;
+  TurbineParams turbine_;
+  AeroModel aero_;
+  double torque_avg_;
+  double aero_damping_;  // N m s/rad folded into the drive train's A by the design (added back to the input)  // share of a torque step the converter delivers on average over one sample
+  std::array<double, kChannels> bias_bound_{};
+  AugmentedObserver<5, 2, 2> dt_obs_;
+  std::array<AugmentedObserver<3, 1, 1>, 3> pitch_obs_;
+  PaperEstimator<3, 2, 2> dt_paper_;
+  std::array<PaperEstimator<2, 1, 1>, 3> pitch_paper_;
+  bool dt_init_ = false;
+  std::array<bool, 3> pitch_init_{};
+  double start_ = -1.0;
+  std::array<double, kChannels> filtered_{};
+  std::array<double, kChannels> above_since_{}, below_since_{};
+  std::array<bool, kChannels> raised_{};
+  BiasOutput out_;
+  bool has_output_ = false;
+  uint64_t rejected_ = 0, fed_dt_ = 0;
+};
+
+}  // namespace windfdi::sensor_bias

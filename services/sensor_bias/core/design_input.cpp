@@ -1,0 +1,126 @@
+// windfdi-qb-design's input: explicit matrices, or the turbine's drive train / pitch model discretised.
+#include <filesystem>
+
+#include "design_input.hpp"
+
+namespace windfdi::sensor_bias {
+
+namespace {
+
+Eigen::VectorXd vector_or(const YamlSection& s, const std::string& key, Eigen::Index n, double fallback) {
+  if (!s.has(key)) return Eigen::VectorXd::Constant(n, fallback);
+  Eigen::MatrixXd v = yaml_matrix(s, key);
+  if (v.cols() != 1 || v.rows() != n)
+    throw s.error(key, "must be a list of " + std::to_string(n) + " numbers");
+  if ((v.array() < 0.0).any()) throw s.error(key, "entries must be >= 0");
+  return v.col(0);
+}
+
+// Builds A, B, C (augmented with output biases when asked) and W1, W2 from per-channel bounds.
+void model_from_turbine(const YamlSection& m, DesignInput& in) {
+  m.require_known_keys({"turbine_file", "subsystem", "sample_time", "discretisation", "aero_damping", "augment_biases",
+                        "input_bound", "process_bound", "bias_rate_bound", "measurement_bound", "omega_n", "zeta"});
+  const std::filesystem::path f = m.require<std::string>("turbine_file");
+  const std::string turbine_file =
+      f.is_relative() ? (std::filesystem::path(m.file()).parent_path() / f).string() : f.string();
+  const TurbineParams p = load_turbine_params_file(turbine_file);
+  in.subsystem = m.get_choice("subsystem", "drive_train", {"drive_train", "pitch"});
+  in.sample_time = m.get_number("sample_time", 0.01, 1e-4, 1.0);
+  const std::string disc = m.get_choice("discretisation", "zoh", {"zoh", "euler"});
+  Eigen::MatrixXd Ac, Bc, Cc;
+  if (in.subsystem == "drive_train") {
+    in.aero_damping = m.get_number("aero_damping", 0.0, 0.0, 1e9);
+    drive_train_continuous(p, in.aero_damping, Ac, Bc, Cc);
+    in.states = {"omega_r", "omega_g", "theta_delta"};
+  } else {
+    pitch_continuous(m.get_number("omega_n", p.pitch_omega_n, 0.1, 100.0), m.get_number("zeta", p.pitch_zeta, 0.01, 5.0),
+                     Ac, Bc, Cc);
+    in.states = {"beta", "beta_dot"};
+  }
+  DiscreteModel d = disc == "zoh" ? discretise_zoh(Ac, Bc, Cc, in.sample_time) : discretise_euler(Ac, Bc, Cc, in.sample_time);
+  const Eigen::Index n = d.A.rows(), r = d.B.cols(), mo = d.C.rows();
+  const bool augment = m.get<bool>("augment_biases", false);
+  const Eigen::VectorXd ib = vector_or(m, "input_bound", r, 0.0), pb = vector_or(m, "process_bound", n, 0.0),
+                        rb = vector_or(m, "bias_rate_bound", mo, 0.0), mb = vector_or(m, "measurement_bound", mo, 0.0);
+  if (augment) {
+    const std::vector<std::string> outs =
+        in.subsystem == "drive_train" ? std::vector<std::string>{"bias_omega_r", "bias_omega_g"} : std::vector<std::string>{"bias_beta"};
+    in.states.insert(in.states.end(), outs.begin(), outs.end());
+    d = augment_with_output_biases(d);
+  }
+  const Eigen::Index na = d.A.rows();
+  // Disturbance columns: input errors (through B), process noise per physical state, bias rates, measurement noise.
+  std::vector<Eigen::VectorXd> c1, c2;
+  for (Eigen::Index j = 0; j < r; ++j)
+    if (ib(j) > 0) c1.push_back(d.B.col(j) * ib(j)), c2.push_back(Eigen::VectorXd::Zero(mo));
+  for (Eigen::Index j = 0; j < n; ++j)
+    if (pb(j) > 0) c1.push_back(Eigen::VectorXd::Unit(na, j) * pb(j)), c2.push_back(Eigen::VectorXd::Zero(mo));
+  if (augment)
+    for (Eigen::Index j = 0; j < mo; ++j)
+      if (rb(j) > 0) c1.push_back(Eigen::VectorXd::Unit(na, n + j) * rb(j)), c2.push_back(Eigen::VectorXd::Zero(mo));
+  for (Eigen::Index j = 0; j < mo; ++j)
+    if (mb(j) > 0) c1.push_back(Eigen::VectorXd::Zero(na)), c2.push_back(Eigen::VectorXd::Unit(mo, j) * mb(j));
+  if (c1.empty()) throw m.error("", "no disturbance: give input_bound, process_bound, bias_rate_bound or measurement_bound");
+  in.problem.A = d.A;
+  in.problem.B = d.B;
+  in.problem.C = d.C;
+  in.problem.W1.resize(na, static_cast<Eigen::Index>(c1.size()));
+  in.problem.W2.resize(mo, static_cast<Eigen::Index>(c1.size()));
+  for (std::size_t j = 0; j < c1.size(); ++j) {
+    in.problem.W1.col(static_cast<Eigen::Index>(j)) = c1[j];
+    in.problem.W2.col(static_cast<Eigen::Index>(j)) = c2[j];
+  }
+  in.problem.Qw = Eigen::MatrixXd::Identity(in.problem.W1.cols(), in.problem.W1.cols());
+}
+
+}  // namespace
+
+DesignInput load_design_input(const YamlSection& s) {
+  s.require_known_keys({"name", "structure", "objective", "alpha", "alpha_search", "model", "A", "B", "C", "W1", "W2",
+                        "Qw", "state_scale", "states", "sample_time", "subsystem"});
+  DesignInput in;
+  in.name = s.get<std::string>("name", "design");
+  in.problem.structure = s.get_choice("structure", "observer", {"paper", "observer"}) == "paper" ? QbStructure::kPaper
+                                                                                                 : QbStructure::kObserver;
+  const std::string objective = s.get_choice("objective", "trace", {"trace", "margin", "feasibility"});
+  in.problem.objective = objective == "trace"    ? QbObjective::kTrace
+                         : objective == "margin" ? QbObjective::kMargin
+                                                 : QbObjective::kFeasibility;
+  if (s.has("alpha")) {
+    in.fixed_alpha = true;
+    in.alpha = s.require_number("alpha", 1e-12, 1.0 - 1e-12);
+  }
+  const YamlSection a = s.section("alpha_search");
+  a.require_known_keys({"min", "max", "grid", "refine"});
+  in.search.min = a.get_number("min", in.search.min, 1e-12, 0.999999);
+  in.search.max = a.get_number("max", in.search.max, in.search.min, 0.999999);
+  in.search.grid = static_cast<int>(a.get_number("grid", in.search.grid, 2, 1000));
+  in.search.refine = static_cast<int>(a.get_number("refine", in.search.refine, 0, 100));
+  if (s.has("model")) {
+    for (const char* k : {"A", "B", "C", "W1", "W2"})
+      if (s.has(k)) throw s.error(k, "give either 'model' or explicit matrices, not both");
+    model_from_turbine(s.section("model"), in);
+  } else {
+    in.subsystem = s.get_choice("subsystem", "generic", {"drive_train", "pitch", "generic"});
+    in.sample_time = s.get_number("sample_time", 0.01, 1e-6, 100.0);
+    in.problem.A = yaml_matrix(s, "A");
+    in.problem.B = yaml_matrix(s, "B");
+    in.problem.C = yaml_matrix(s, "C");
+    in.problem.W1 = yaml_matrix(s, "W1");
+    in.problem.W2 = s.has("W2") ? yaml_matrix(s, "W2")
+                                : Eigen::MatrixXd::Zero(in.problem.C.rows(), in.problem.W1.cols());
+    in.states = s.get<std::vector<std::string>>("states", {});
+  }
+  in.problem.Qw = s.has("Qw") ? yaml_matrix(s, "Qw") : Eigen::MatrixXd::Identity(in.problem.W1.cols(), in.problem.W1.cols());
+  if (s.has("state_scale")) in.problem.state_scale = yaml_matrix(s, "state_scale").col(0);
+  if (in.states.empty())
+    for (Eigen::Index i = 0; i < in.problem.A.rows(); ++i) in.states.push_back("x" + std::to_string(i + 1));
+  const std::string why = check_problem(in.problem);
+  if (!why.empty()) throw s.error("", "ill-posed design: " + why);
+  if (static_cast<Eigen::Index>(in.states.size()) != in.problem.A.rows()) throw s.error("states", "must name every state");
+  return in;
+}
+
+DesignInput load_design_input_file(const std::string& path) { return load_design_input(YamlSection::load_file(path)); }
+
+}  // namespace windfdi::sensor_bias

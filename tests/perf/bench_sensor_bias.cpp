@@ -1,0 +1,76 @@
+// sensor_bias throughput: the drive-train + 3 pitch observers per turbine-sample (target >= 5 million/s per core),
+// the full per-sample estimator (with the aerodynamic-torque model), and the LMI design time of both subsystems.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <vector>
+
+#include "bias_estimator.hpp"
+#include "design_input.hpp"
+#include "observers.hpp"
+
+using namespace windfdi;
+using namespace windfdi::sensor_bias;
+
+static const std::string kDeploy = WINDFDI_SENSOR_BIAS_DEPLOY_DIR;
+
+static void BM_ObserverKernel(benchmark::State& state) {
+  const GainFile d = load_gain_file(kDeploy + "/sensor_bias/gains_drive_train_observer.yaml");
+  const GainFile p = load_gain_file(kDeploy + "/sensor_bias/gains_pitch_observer.yaml");
+  AugmentedObserver<5, 2, 2> dt;
+  dt.A = d.A; dt.B = d.B; dt.C = d.C; dt.K = d.K;
+  std::array<AugmentedObserver<3, 1, 1>, 3> pitch;
+  for (auto& o : pitch) { o.A = p.A; o.B = p.B; o.C = p.C; o.K = p.K; }
+  std::vector<double> w(4096);
+  for (int i = 0; i < 4096; ++i) w[static_cast<std::size_t>(i)] = std::sin(0.01 * i);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const double v = w[i];
+    dt.step(Eigen::Vector2d(1.7 + 0.01 * v, 162.0 + v), Eigen::Vector2d(2.8e6 + 1e5 * v, 2.9e4));
+    for (auto& o : pitch) o.step(Eigen::Matrix<double, 1, 1>(10.0 + v), Eigen::Matrix<double, 1, 1>(10.0 + v));
+    i = (i + 1) & 4095;
+  }
+  benchmark::DoNotOptimize(dt.state());
+  benchmark::DoNotOptimize(pitch[2].state());
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_ObserverKernel)->Repetitions(3)->ReportAggregatesOnly(true);
+
+static void BM_FullEstimator(benchmark::State& state) {
+  TurbineParams tp;
+  const YamlSection y = YamlSection::load_file(kDeploy + "/config/sensor_bias.yaml");
+  const BiasConfig c = load_bias_config(y, kDeploy + "/sensor_bias");
+  BiasEstimator est(c, load_gain_file(c.drive_train_gain_file), load_gain_file(c.pitch_gain_file), tp);
+  std::vector<FaultEvent> ev;
+  FrameSample s;
+  s.gen_torque = 2.9e4;
+  s.pitch_ref = {5, 5, 5};
+  double t = 0;
+  for (auto _ : state) {
+    s.t = t;
+    s.rotor_speed = 1.7 + 0.01 * std::sin(t);
+    s.generator_speed = 95 * s.rotor_speed;
+    s.wind_hub = 14.0 + std::sin(0.3 * t);
+    s.pitch = {5.0, 5.0, 5.0};
+    est.update(s, false, ev);
+    ev.clear();
+    t += 0.01;
+  }
+  benchmark::DoNotOptimize(est.output());
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_FullEstimator)->Repetitions(3)->ReportAggregatesOnly(true);
+
+static void BM_DesignBothSubsystems(benchmark::State& state) {
+  const DesignInput d = load_design_input_file(kDeploy + "/sensor_bias/design_drive_train_observer.yaml");
+  const DesignInput p = load_design_input_file(kDeploy + "/sensor_bias/design_pitch_observer.yaml");
+  for (auto _ : state) {
+    const QbSolution a = d.fixed_alpha ? qb_solve(d.problem, d.alpha) : qb_design(d.problem, d.search);
+    const QbSolution b = p.fixed_alpha ? qb_solve(p.problem, p.alpha) : qb_design(p.problem, p.search);
+    benchmark::DoNotOptimize(a.K);
+    benchmark::DoNotOptimize(b.K);
+  }
+}
+BENCHMARK(BM_DesignBothSubsystems)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+BENCHMARK_MAIN();
