@@ -17,7 +17,7 @@ static const std::string kDeploy = WINDFDI_SENSOR_BIAS_DEPLOY_DIR;
 static void BM_ObserverKernel(benchmark::State& state) {
   const GainFile d = load_gain_file(kDeploy + "/sensor_bias/gains_drive_train_observer.yaml");
   const GainFile p = load_gain_file(kDeploy + "/sensor_bias/gains_pitch_observer.yaml");
-  AugmentedObserver<5, 2, 2> dt;
+  AugmentedObserver<5, 3, 2> dt;  // rotor speed, generator speed, power witness
   dt.A = d.A; dt.B = d.B; dt.C = d.C; dt.K = d.K;
   std::array<AugmentedObserver<3, 1, 1>, 3> pitch;
   for (auto& o : pitch) { o.A = p.A; o.B = p.B; o.C = p.C; o.K = p.K; }
@@ -26,7 +26,7 @@ static void BM_ObserverKernel(benchmark::State& state) {
   std::size_t i = 0;
   for (auto _ : state) {
     const double v = w[i];
-    dt.step(Eigen::Vector2d(1.7 + 0.01 * v, 162.0 + v), Eigen::Vector2d(2.8e6 + 1e5 * v, 2.9e4));
+    dt.step(Eigen::Vector3d(1.7 + 0.01 * v, 162.0 + v, 162.0 - v), Eigen::Vector2d(2.8e6 + 1e5 * v, 2.9e4));
     for (auto& o : pitch) o.step(Eigen::Matrix<double, 1, 1>(10.0 + v), Eigen::Matrix<double, 1, 1>(10.0 + v));
     i = (i + 1) & 4095;
   }
@@ -50,6 +50,7 @@ static void BM_FullEstimator(benchmark::State& state) {
     s.t = t;
     s.rotor_speed = 1.7 + 0.01 * std::sin(t);
     s.generator_speed = 95 * s.rotor_speed;
+    s.power = 0.98 * s.generator_speed * s.gen_torque;  // the witness in use, as on a running turbine
     s.wind_hub = 14.0 + std::sin(0.3 * t);
     s.pitch = {5.0, 5.0, 5.0};
     est.update(s, false, ev);

@@ -17,7 +17,8 @@ const std::array<const char*, kChannels>& channel_components() {
 BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gain_dir) {
   s.require_known_keys({"turbine_file", "mode", "drive_train_gains", "pitch_gains", "paper_drive_train_gains",
                         "paper_pitch_gains", "threshold_rotor_speed", "threshold_generator_speed", "threshold_pitch",
-                        "raise_time", "clear_ratio", "clear_time", "filter_time", "settle_time", "rotor_speed_max",
+                        "raise_time", "clear_ratio", "clear_time", "filter_time", "settle_time", "witness_torque_min",
+                        "differential_confirm", "rotor_speed_max",
                         "generator_speed_max", "torque_max", "wind_max", "pitch_min", "pitch_max"});
   BiasConfig c;
   c.mode = s.get_choice("mode", "observer", {"observer", "paper"}) == "paper" ? Mode::kPaper : Mode::kObserver;
@@ -41,6 +42,8 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   c.clear_time = s.get_number("clear_time", c.clear_time, 0.0, 3600.0);
   c.filter_time = s.get_number("filter_time", c.filter_time, 0.0, 600.0);
   c.settle_time = s.get_number("settle_time", c.settle_time, 0.0, 3600.0);
+  c.witness_torque_min = s.get_number("witness_torque_min", c.witness_torque_min, 1.0, 1e9);
+  c.differential_confirm = s.get_number("differential_confirm", c.differential_confirm, 0.0, 1.0);
   c.rotor_speed_max = s.get_number("rotor_speed_max", c.rotor_speed_max, 0.1, 100.0);
   c.generator_speed_max = s.get_number("generator_speed_max", c.generator_speed_max, 1.0, 10000.0);
   c.torque_max = s.get_number("torque_max", c.torque_max, 1.0, 1e9);
@@ -97,15 +100,16 @@ double BiasEstimator::aero_torque(const FrameSample& s) const {
   // The model on measured wind and the bias-free rotor speed and pitch (a biased sensor must not bias the input).
   const double omega = cfg_.mode == Mode::kPaper ? dt_paper_.state()(0) : dt_obs_.state()(0);
   const double w = std::clamp(omega, 0.05, cfg_.rotor_speed_max);
-  double t = 0.0;
+  // One evaluation at the rotor-average pitch (the plant averages three blade evaluations; the IPC's 1P offsets
+  // cancel in the mean pitch and their second-order effect is far below the measured-wind error).
+  double beta = 0.0;
   for (int i = 0; i < kBlades; ++i) {
     const std::size_t c = static_cast<std::size_t>(2 + i);
-    const double beta = pitch_init_[static_cast<std::size_t>(i)] ? out_.corrected[c] : s.pitch[static_cast<std::size_t>(i)];
-    if (!std::isfinite(beta)) return kNaN;
-    const double b = std::clamp(beta, turbine_.pitch_min - 5.0, turbine_.pitch_max);
-    t += aero_.aero_torque(s.wind_hub, w, b) / 3.0;
+    const double b = pitch_init_[static_cast<std::size_t>(i)] ? out_.corrected[c] : s.pitch[static_cast<std::size_t>(i)];
+    if (!std::isfinite(b)) return kNaN;
+    beta += b / kBlades;
   }
-  return t;
+  return aero_.aero_torque(s.wind_hub, w, std::clamp(beta, turbine_.pitch_min - 5.0, turbine_.pitch_max));
 }
 
 bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events) {
@@ -169,13 +173,27 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
     // integrates the full nonlinear T_aero(omega_r) while the gain was designed for the damped error dynamics.
     const double omega_hat = paper ? dt_paper_.state()(0) : dt_obs_.state()(0);
     const Eigen::Vector2d y(s.rotor_speed, s.generator_speed), u(ta + aero_damping_ * omega_hat, tg);
+    out_.witness_speed = kNaN;
     if (paper) {
       const auto& f = dt_paper_.step(y, u);
       out_.bias[0] = f(0);
       out_.bias[1] = f(1);
       for (int j = 0; j < 3; ++j) out_.drive_train_state[static_cast<std::size_t>(j)] = dt_paper_.state()(j);
     } else {
-      dt_obs_.step(y, u);
+      // Third output: the generator speed from the electrical power, P = eta_g T_g omega_g, with the measured
+      // torque of the same sample (independent sensors; no speed sensor enters it). Missing or at low torque:
+      // the observer predicts it (zero innovation).
+      const bool witness_ok = (s.valid_mask & kValidPower) && std::isfinite(s.power) &&
+                              s.gen_torque >= cfg_.witness_torque_min && s.power > 0.0;
+      const double wg = witness_ok ? s.power / (turbine_.generator_efficiency * s.gen_torque) : kNaN;
+      const Eigen::Vector3d y3(s.rotor_speed, s.generator_speed, wg);
+      if (witness_ok && wg <= cfg_.generator_speed_max) {
+        dt_obs_.step(y3, u);
+        out_.witness_speed = wg;
+        ++witness_used_;
+      } else {
+        dt_obs_.step_without(Eigen::Vector3d(y3(0), y3(1), 0.0), u, 2);
+      }
       out_.bias[0] = dt_obs_.state()(3);
       out_.bias[1] = dt_obs_.state()(4);
       for (int j = 0; j < 3; ++j) out_.drive_train_state[static_cast<std::size_t>(j)] = dt_obs_.state()(j);
@@ -183,6 +201,7 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
     out_.corrected[0] = s.rotor_speed - out_.bias[0];
     out_.corrected[1] = s.generator_speed - out_.bias[1];
     out_.aero_torque = ta;
+    out_.differential = out_.bias[0] - out_.bias[1] / turbine_.gear_ratio;
     dt_init_ = true;
     ++fed_dt_;
   } else {
@@ -202,6 +221,7 @@ void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
   const double dt = 0.01;
   const double a = cfg_.filter_time > 0.0 ? 1.0 - std::exp(-dt / cfg_.filter_time) : 1.0;
   static const char* kUnit[] = {"rad/s", "rad/s", "deg", "deg", "deg"};
+  filtered_diff_ += a * (out_.differential - filtered_diff_);
   for (int c = 0; c < kChannels; ++c) {
     const std::size_t k = static_cast<std::size_t>(c);
     filtered_[k] += a * (out_.bias[k] - filtered_[k]);
@@ -209,7 +229,18 @@ void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
       above_since_[k] = below_since_[k] = -1.0;
       continue;
     }
-    const double stat = std::fabs(filtered_[k]), thr = cfg_.threshold[k];
+    const double thr = cfg_.threshold[k];
+    double stat = std::fabs(filtered_[k]);
+    if (c < 2 && cfg_.mode == Mode::kObserver) {
+      // Which speed sensor: its own estimate (placed by the power witness) must be confirmed by the differential
+      // the two speed sensors see without any model, with the sign a bias on that sensor gives it (rotor: +b_r,
+      // generator: -b_g / N). A common-mode offset (power or torque channel wrong, or both sensors alike) has no
+      // differential and flags neither sensor.
+      // Statistic: min(|b|, d_along / confirm), so it reaches the threshold only when both do their share.
+      const double d = c == 0 ? filtered_diff_ : -filtered_diff_ * turbine_.gear_ratio;
+      const double along = filtered_[k] >= 0.0 ? d : -d;
+      if (cfg_.differential_confirm > 0.0) stat = std::min(stat, std::max(0.0, along) / cfg_.differential_confirm);
+    }
     auto event = [&](bool raised, double since) {
       FaultEvent e;
       e.t = t;

@@ -30,6 +30,12 @@ struct BiasConfig {
   double clear_time = 5.0;     ///< s below the clear level before it clears
   double filter_time = 0.3;    ///< s, first-order low-pass on the bias estimate before the threshold test
   double settle_time = 20.0;   ///< s after the first (or after a gap) sample before anything is raised
+  /// Observer mode: the generator-speed witness P / (eta_g T_g) is used only while the measured torque is above
+  /// this (its noise grows as 1 / T_g).
+  double witness_torque_min = 3000.0;  ///< N m
+  /// Observer mode: a speed sensor is flagged only when the differential b_r - b_g / N (what the two speed
+  /// sensors alone can see) confirms it with the same sign and at least this share of the threshold.
+  double differential_confirm = 0.5;
   double rotor_speed_max = 5.0;        ///< rad/s; larger or negative: rejected
   double generator_speed_max = 400.0;  ///< rad/s
   double torque_max = 1e6;             ///< N m, |generator torque| and |aerodynamic torque|
@@ -49,6 +55,8 @@ struct BiasOutput {
   double bound_ratio = 0.0;  ///< largest |bias| / the design's bias-error bound
   double aero_torque = 0.0;  ///< N m, the input used (model or recording)
   std::array<double, 3> drive_train_state{};  ///< omega_r, omega_g, theta estimates
+  double differential = 0.0;    ///< rad/s (rotor side): b_r - b_g / N, the speed sensors' own disagreement
+  double witness_speed = kNaN;  ///< rad/s: P / (eta_g T_g) this sample, NaN when not usable
 };
 
 /// One turbine: samples in, bias estimates, corrected measurements and sensor_bias events out.
@@ -64,6 +72,7 @@ class BiasEstimator {
   bool has_output() const { return has_output_; }
   uint64_t rejected() const { return rejected_; }
   uint64_t fed_drive_train() const { return fed_dt_; }
+  uint64_t witness_used() const { return witness_used_; }  ///< drive-train samples with the power witness
   const std::array<bool, kChannels>& raised() const { return raised_; }
   Mode mode() const { return cfg_.mode; }
 
@@ -74,10 +83,10 @@ class BiasEstimator {
   BiasConfig cfg_;
   TurbineParams turbine_;
   AeroModel aero_;
-  double torque_avg_;
-  double aero_damping_;  // N m s/rad folded into the drive train's A by the design (added back to the input)  // share of a torque step the converter delivers on average over one sample
+  double torque_avg_;    // share of a torque step the converter delivers on average over one sample
+  double aero_damping_;  // N m s/rad folded into the drive train's A by the design (added back to the input)
   std::array<double, kChannels> bias_bound_{};
-  AugmentedObserver<5, 2, 2> dt_obs_;
+  AugmentedObserver<5, 3, 2> dt_obs_;  // outputs: rotor speed, generator speed, witness P / (eta_g T_g)
   std::array<AugmentedObserver<3, 1, 1>, 3> pitch_obs_;
   PaperEstimator<3, 2, 2> dt_paper_;
   std::array<PaperEstimator<2, 1, 1>, 3> pitch_paper_;
@@ -85,11 +94,12 @@ class BiasEstimator {
   std::array<bool, 3> pitch_init_{};
   double start_ = -1.0;
   std::array<double, kChannels> filtered_{};
+  double filtered_diff_ = 0.0;
   std::array<double, kChannels> above_since_{}, below_since_{};
   std::array<bool, kChannels> raised_{};
   BiasOutput out_;
   bool has_output_ = false;
-  uint64_t rejected_ = 0, fed_dt_ = 0;
+  uint64_t rejected_ = 0, fed_dt_ = 0, witness_used_ = 0;
 };
 
 }  // namespace windfdi::sensor_bias

@@ -71,6 +71,13 @@ class AugmentedObserver {
     x_ = A * x_ + B * u + K * innovation;
     return innovation;
   }
+  /// One sample with output `skip` missing this sample (its innovation counts as zero: the model predicts it).
+  Y step_without(const Y& y, const U& u, int skip) {
+    Y innovation = y - C * x_;
+    innovation(skip) = 0.0;
+    x_ = A * x_ + B * u + K * innovation;
+    return innovation;
+  }
   const X& state() const { return x_; }
   X& state() { return x_; }
 

@@ -380,9 +380,14 @@ QbSolution qb_solve_impl(const QbProblem& q, double alpha, const MatrixXd* Kfix)
       sol.bias_bound(j) = std::sqrt(c.dot(sol.R.ldlt().solve(c))) + (q.W2.row(j) * Qi_half).norm() +
                           ((q.C * q.W1).row(j) * Qi_half).norm();
     } else {
-      // Bias states are the last m states of an augmented model; otherwise the output error C e.
-      const bool augmented = l.n > l.m && q.C.rightCols(l.m).isIdentity();
-      const VectorXd c = augmented ? VectorXd::Unit(l.n, l.n - l.m + j) : VectorXd(q.C.row(j).transpose());
+      // An output's bias state is a trailing state that only that output sees (unit column of C, random walk in
+      // A); an output without one (an unbiased witness) gets the bound of its output error C e.
+      VectorXd c = q.C.row(j).transpose();
+      for (int i = l.n - 1; i >= 0 && i >= l.n - l.m; --i)
+        if (q.C.col(i).isApprox(VectorXd::Unit(l.m, j)) && q.A.col(i).isApprox(VectorXd::Unit(l.n, i))) {
+          c = VectorXd::Unit(l.n, i);
+          break;
+        }
       sol.bias_bound(j) = std::sqrt(c.dot(Pinv * c));
     }
   }

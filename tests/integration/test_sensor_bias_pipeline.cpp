@@ -1,0 +1,142 @@
+// windfdi-sensor-bias as a process: the replay contract on plant recordings of the three sensor-bias scenarios,
+// a malformed recording, and end to end on DDS (plant -> sensor_bias -> arbiter and farm monitor) for a
+// generator-speed sensor bias (the arbiter switches the controller to the corrected generator speed).
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "process.hpp"
+
+using namespace windfdi::test;
+using nlohmann::json;
+
+namespace {
+
+const std::string kDeploy = WINDFDI_SOURCE_DEPLOY_DIR;
+
+bool wait_until(const std::function<bool()>& pred, std::chrono::seconds timeout) {
+  const auto end = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < end) {
+    if (pred()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  return pred();
+}
+
+std::vector<json> json_lines(const std::string& text) {
+  std::vector<json> out;
+  std::stringstream ss(text);
+  for (std::string line; std::getline(ss, line);)
+    if (!line.empty() && line[0] == '{') out.push_back(json::parse(line));
+  return out;
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream f(path);
+  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+struct ReplayCase {
+  const char* scenario;
+  const char* component;
+};
+
+class SensorBiasReplay : public ::testing::TestWithParam<ReplayCase> {};
+
+TEST_P(SensorBiasReplay, PlantRecordingRaisesTheBiasedSensorOnlyAfterTheOnset) {
+  const ReplayCase c = GetParam();
+  // GIVEN a plant recording (gzip) of the scenario: a 2 % speed-sensor or 1 deg pitch-sensor bias from 150 s
+  const std::string dir = temp_dir("sensor_bias_replay");
+  ChildProcess plant({bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/" + c.scenario, "--offline",
+                      "--record", dir + "/frames.csv.gz"},
+                     {}, "plant");
+  ASSERT_EQ(plant.wait(std::chrono::seconds(60)), 0) << plant.stderr_text();
+  // WHEN windfdi-sensor-bias replays it with the shipped configuration
+  ChildProcess est({bin("windfdi-sensor-bias"), "--replay", dir + "/frames.csv.gz", "--estimates", dir + "/est.csv",
+                    "--events", dir + "/events.jsonl", "--config", kDeploy + "/config/sensor_bias.yaml"},
+                   {}, "sensor_bias_replay");
+  ASSERT_EQ(est.wait(std::chrono::seconds(60)), 0) << est.stderr_text();
+  // THEN the estimates start with the contract's columns and cover the recording
+  std::stringstream es(read_file(dir + "/est.csv"));
+  std::string header;
+  std::getline(es, header);
+  EXPECT_EQ(header.rfind("t,turbine_id,bias_rotor_speed,bias_generator_speed,bias_pitch_1,bias_pitch_2,bias_pitch_3", 0),
+            0u)
+      << header;
+  int rows = 0;
+  for (std::string line; std::getline(es, line);) ++rows;
+  EXPECT_GT(rows, 2000);
+  // AND the first event raises sensor_bias on the biased sensor after the onset, and no other component appears
+  const auto events = json_lines(read_file(dir + "/events.jsonl"));
+  ASSERT_FALSE(events.empty()) << c.scenario;
+  EXPECT_EQ(events[0]["component"], c.component);
+  EXPECT_EQ(events[0]["fault"], "sensor_bias");
+  EXPECT_EQ(events[0]["state"], "raised");
+  EXPECT_EQ(events[0]["source"], "sensor_bias");
+  EXPECT_EQ(events[0]["turbine_id"], "WT01");
+  EXPECT_GT(events[0]["t"].get<double>(), 150.0);
+  EXPECT_LT(events[0]["t"].get<double>(), 155.0);
+  for (const auto& e : events) EXPECT_EQ(e["component"], c.component) << e.dump();
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenarios, SensorBiasReplay,
+                         ::testing::Values(ReplayCase{"sensor_bias_rotor_speed.yaml", "rotor_speed_sensor"},
+                                           ReplayCase{"sensor_bias_generator_speed.yaml", "generator_speed_sensor"},
+                                           ReplayCase{"sensor_bias_pitch.yaml", "pitch_sensor_2"}));
+
+TEST(SensorBiasReplayInput, MalformedRecordingExitsWithCode2NamingFileAndLine) {
+  const std::string dir = temp_dir("sensor_bias_replay_bad");
+  std::ofstream(dir + "/bad.csv") << "t,rotor_speed,generator_speed\n0,1.6,152\n0.01,abc,152\n";
+  ChildProcess est({bin("windfdi-sensor-bias"), "--replay", dir + "/bad.csv", "--estimates", dir + "/e.csv",
+                    "--events", dir + "/e.jsonl"},
+                   {}, "sensor_bias_bad");
+  EXPECT_EQ(est.wait(std::chrono::seconds(20)), 2);
+  EXPECT_NE(est.stderr_text().find(dir + "/bad.csv:3"), std::string::npos) << est.stderr_text();
+}
+
+TEST(SensorBiasPipeline, GeneratorSpeedBiasReachesTheFarmAndTheControllerUsesTheCorrectedSpeed) {
+  const int domain = private_domain(7);
+  const auto env = dds_env(domain);
+  const std::string dir = temp_dir("sensor_bias_pipeline");
+  const std::string db = dir + "/farm.sqlite";
+  ChildProcess farm({bin("windfdi-farm"), "--db", db, "--table-period", "0"}, env, "farm");
+  ChildProcess arbiter({bin("windfdi-arbiter")}, env, "arbiter");
+  ChildProcess configs({bin("windfdi-test-peer"), "configs", "--timeout", "120"}, env, "configs");
+  ChildProcess est({bin("windfdi-sensor-bias"), "--config", kDeploy + "/config/sensor_bias.yaml"}, env, "sensor_bias");
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  // GIVEN the plant running a 2 % generator-speed sensor bias from 150 s at 20x real time
+  ChildProcess plant(
+      {bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/sensor_bias_generator_speed.yaml", "--rate", "20"},
+      env, "plant");
+  // THEN the farm stores sensor_bias raised by sensor_bias on the generator speed sensor
+  const auto stored = [&](const std::string& component) {
+    ChildProcess h({bin("windfdi-farm"), "--db", db, "history", "--json"}, env, "history");
+    if (h.wait(std::chrono::seconds(20)) != 0) return false;
+    for (const auto& j : json_lines(h.stdout_text()))
+      if (j["kind"] == "fault" && j["data"]["component"] == component && j["data"]["fault"] == "sensor_bias" &&
+          j["data"]["source"] == "sensor_bias" && j["data"]["state"] == "raised")
+        return true;
+    return false;
+  };
+  EXPECT_TRUE(wait_until([&] { return stored("generator_speed_sensor"); }, std::chrono::seconds(60)))
+      << est.stderr_text() << farm.stderr_text();
+  // AND the arbiter's configuration switches the controller to the corrected generator speed (decision table)
+  const auto corrected = [&] {
+    for (const auto& j : json_lines(configs.stdout_text()))
+      if (j.contains("revision") && j.value("use_corrected_generator_speed", false)) return true;
+    return false;
+  };
+  EXPECT_TRUE(wait_until(corrected, std::chrono::seconds(20))) << configs.stdout_text() << arbiter.stderr_text();
+  // AND neither the rotor speed sensor nor a pitch sensor was stored as biased
+  EXPECT_FALSE(stored("rotor_speed_sensor"));
+  for (const char* p : {"pitch_sensor_1", "pitch_sensor_2", "pitch_sensor_3"}) EXPECT_FALSE(stored(p)) << p;
+  plant.stop(SIGTERM);
+  remove_stale_shm(domain);
+}
+
+}  // namespace
