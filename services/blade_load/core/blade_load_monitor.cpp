@@ -25,6 +25,7 @@ BladeLoadMonitor::BladeLoadMonitor(const MonitorConfig& config, LoadTable table)
     sensor_[b] = std::make_unique<HarmonicEstimator>(cfg_.harmonic);
     model_[b] = std::make_unique<HarmonicEstimator>(cfg_.harmonic);
     blades_[b].run_start.fill(-1.0);
+    blades_[b].fast_start.fill(-1.0);
     blades_[b].episode = EpisodeClassifier(cfg_.episode);
   }
   witness_crit_ = student_t_critical(cfg_.witness_significance, 1e6);
@@ -125,6 +126,23 @@ bool BladeLoadMonitor::update(const FrameSample& s, bool gap, std::vector<FaultE
   }
   std::array<double, 3> mm{};
   const bool model_ok = lidar_.moments(t, s.rotor_speed, s.azimuth, pitch, mm);
+  // Steep-surface gate on the low-passed pitch (lambda of the last delayed LIDAR value; none before the first).
+  {
+    const double a = cfg_.gate_pitch_filter > 0 ? cfg_.harmonic.dt / (cfg_.gate_pitch_filter + cfg_.harmonic.dt) : 1.0;
+    bool steep = false;
+    for (int b = 0; b < 3; ++b) {
+      pitch_lp_[b] = std::isfinite(pitch_lp_[b]) ? pitch_lp_[b] + a * (pitch[b] - pitch_lp_[b]) : pitch[b];
+      if (cfg_.gate_pitch_margin > 0 && lidar_.lambda() > 0 &&
+          model_sensitivity(lidar_.lambda(), pitch_lp_[b]) > cfg_.gate_max_sensitivity)
+        steep = true;
+    }
+    if (steep) {
+      since_steep_ = 0;
+      ++gated_samples_;
+    } else {
+      ++since_steep_;
+    }
+  }
   if (model_ok) {
     if (lidar_raised_) {
       FaultEvent e = event(t, "lidar", "sensor_invalid", false);
@@ -193,8 +211,23 @@ bool BladeLoadMonitor::update(const FrameSample& s, bool gap, std::vector<FaultE
   return true;
 }
 
+double BladeLoadMonitor::model_sensitivity(double lambda, double pitch_deg) const {
+  const double d = cfg_.gate_pitch_margin;
+  const double k0 = table_.k(lambda, pitch_deg - d), k1 = table_.k(lambda, pitch_deg), k2 = table_.k(lambda, pitch_deg + d);
+  const double hi = std::max({k0, k1, k2}), lo = std::min({k0, k1, k2});
+  return hi > 0 ? (hi - lo) / hi : 0.0;
+}
+
+bool BladeLoadMonitor::gated() const {
+  uint64_t n = 0;
+  for (const auto& e : sensor_) n = std::max<uint64_t>(n, static_cast<uint64_t>(e->size()));
+  for (const auto& e : model_) n = std::max<uint64_t>(n, static_cast<uint64_t>(e->size()));
+  return since_steep_ < n;
+}
+
 void BladeLoadMonitor::channel_values(std::array<std::array<double, kChannels>, 3>& x) const {
   for (auto& r : x) r.fill(kNaN);
+  if (gated()) return;  // a window with a blade on the steep part of k_M: no information
   const bool all_sensors = sensor_valid_[0] && sensor_valid_[1] && sensor_valid_[2];
   const bool all_models = model_valid_[0] && model_valid_[1] && model_valid_[2];
   const double mean_all = std::fabs(mean_sensor_[0] + mean_sensor_[1] + mean_sensor_[2]) / 3.0;
@@ -242,6 +275,8 @@ void BladeLoadMonitor::revolution(double t, std::vector<FaultEvent>& events) {
   last_rev_t_ = t;
   std::array<std::array<double, kChannels>, 3> x;
   channel_values(x);
+  last_x_ = x;
+  if (gated()) ++gated_revolutions_;
   const std::size_t keep = static_cast<std::size_t>(std::max(cfg_.drift_window, cfg_.abrupt_lookback + 1) + 1);
   for (int b = 0; b < 3; ++b) {
     BladeState& B = blades_[b];
@@ -271,22 +306,26 @@ void BladeLoadMonitor::revolution(double t, std::vector<FaultEvent>& events) {
   }
 
   // Moving-window mean test (drift), once per revolution on non-overlapping windows.
-  std::array<std::array<double, kChannels>, 3> dt{};
+  std::array<std::array<double, kChannels>, 3> dt{}, wm{};
   for (auto& r : dt) r.fill(kNaN);
+  for (auto& r : wm) r.fill(kNaN);
   const int W = cfg_.drift_window;
   for (int b = 0; b < 3; ++b) {
     const BladeState& B = blades_[b];
     if (static_cast<int>(B.history.size()) < W) continue;
     for (int c = 0; c < kChannels; ++c) {
       if (!healthy_[b][c].learned) continue;
+      // Gated revolutions (NaN) are left out; at least half the window must be there.
       double sum = 0.0;
-      bool ok = true;
+      int m = 0;
       for (int i = 0; i < W; ++i) {
         const double v = B.history[B.history.size() - 1 - i][c];
-        ok = ok && std::isfinite(v);
-        sum += v;
+        if (std::isfinite(v)) sum += v, ++m;
       }
-      if (ok) dt[b][c] = healthy_[b][c].drift_t(sum / W, W);
+      if (2 * m >= W && m >= 2) {
+        dt[b][c] = healthy_[b][c].drift_t(sum / m, m);
+        wm[b][c] = sum / m - healthy_[b][c].mean;
+      }
     }
   }
   for (int b = 0; b < 3; ++b) {
@@ -304,11 +343,15 @@ void BladeLoadMonitor::revolution(double t, std::vector<FaultEvent>& events) {
               std::fabs(dt[b][kWitnessChannel]) > witness_crit_))
           continue;
       } else {
-        // Single-fault isolation: a faulty blade also shifts the others' cross residuals, by half as much.
-        bool largest = true;
-        for (int o = 0; o < 3; ++o)
-          if (o != b && std::isfinite(dt[o][c]) && std::fabs(dt[o][c]) > std::fabs(v)) largest = false;
-        if (!largest) continue;
+        // Single-fault isolation as in the outlier test, on the window means' shifts (N m per N m, not t: the
+        // blades' healthy spreads differ): a faulty blade shifts its own cross residual by delta and the others'
+        // by -delta / 2, so it must differ from EACH other blade in the direction of its own shift.
+        const double dev = wm[b][c] - 0.5 * (wm[(b + 1) % 3][c] + wm[(b + 2) % 3][c]);
+        bool isolated = std::isfinite(dev);
+        for (int o = 0; o < 3 && isolated; ++o)
+          if (o != b && !((wm[b][c] - wm[o][c]) * (dev > 0 ? 1.0 : -1.0) >= cfg_.isolation_ratio * std::fabs(dev)))
+            isolated = false;
+        if (!isolated) continue;
       }
       if (std::fabs(v) / drift_crit_[c] > best) {
         best = std::fabs(v) / drift_crit_[c];
@@ -394,6 +437,15 @@ void BladeLoadMonitor::tick(double t, std::vector<FaultEvent>& events) {
     out_.delta_a[b] = sensor_valid_[b] && model_valid_[b] ? a_model_[b] - a_sensor_[b] : kNaN;
   }
   due_ = true;
+  if (gated()) {
+    // No information in this window: no run continues through it, and an episode is held as it is.
+    for (auto& B : blades_) {
+      B.run_start.fill(-1.0);
+      B.fast_start.fill(-1.0);
+      B.exceeding = false;
+    }
+    return;
+  }
 
   std::array<std::array<double, kChannels>, 3> x, tv;
   channel_values(x);
@@ -432,17 +484,23 @@ void BladeLoadMonitor::tick(double t, std::vector<FaultEvent>& events) {
       }
       const int sign = v > 0 ? 1 : -1;
       if (!exceeds) {
-        B.run_start[c] = -1.0;
+        B.run_start[c] = B.fast_start[c] = -1.0;
         continue;
       }
       if (B.run_start[c] < 0 || B.run_sign[c] != sign) {
         B.run_start[c] = t;
         B.run_sign[c] = sign;
+        B.fast_start[c] = -1.0;
       }
       const double r = std::fabs(v) / crit_[c];
+      // A large step: far above the critical value for fast_confirm_time confirms before a revolution.
+      const bool fast_now = cfg_.fast_ratio > 0 && r > cfg_.fast_ratio;
+      if (!fast_now) B.fast_start[c] = -1.0;
+      else if (B.fast_start[c] < 0) B.fast_start[c] = t;
       if (r <= 1.0) continue;
       if (r > best) best = r, best_c = c;
-      if (t - B.run_start[c] >= confirm_time - 1e-9 && r > conf_best) conf_best = r, conf_c = c;
+      const bool fast = fast_now && t - B.fast_start[c] >= cfg_.fast_confirm_time - 1e-9;
+      if ((fast || t - B.run_start[c] >= confirm_time - 1e-9) && r > conf_best) conf_best = r, conf_c = c;
     }
     B.exceeding = best_c >= 0;
     const int c = conf_c >= 0 ? conf_c : best_c;

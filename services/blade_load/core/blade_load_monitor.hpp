@@ -42,6 +42,16 @@ struct MonitorConfig {
   double confirm_revolutions = 1.1; ///< and at least this many revolutions (0..20): a single-revolution transient
                                     ///< stays in the one-revolution window for exactly one revolution
   double onset_ratio = 0.5;         ///< a run of exceedance starts above this share of the critical value (0.1..1)
+  double fast_ratio = 1.25;         ///< a large step: above this multiple of the critical value (0: off) ...
+  double fast_confirm_time = 1.0;   ///< ... continuously for this long (s) raises before confirm_revolutions
+  // Steep-surface gate: where k_M(lambda, pitch) changes by more than gate_max_sensitivity (relative) within
+  // +/- gate_pitch_margin deg of a blade's (low-passed) measured pitch, neither the table (0.5 deg nodes) nor
+  // the pitch measurement (0.2 deg noise) determines the load: the plant's Heier Cp is singular at -1 deg
+  // (beta^3 + 1 = 0), where the thrust drops from ~0.5 to 0 within 0.3 deg. Every window that holds such a
+  // sample is not tested (and not learned); an episode in progress is held, neither confirmed nor quiet.
+  double gate_pitch_margin = 0.25;    ///< deg (0: no gate)
+  double gate_max_sensitivity = 0.25; ///< (max - min) / max of k_M over pitch +/- margin
+  double gate_pitch_filter = 0.2;     ///< s, low-pass of the measured pitch for the gate (noise 0.2 deg)
   double isolation_ratio = 0.5;     ///< cross-blade channels: the other two blades must agree with each other,
                                     ///< |x_o1 - x_o2| <= this * |x_b - mean(x_o)| (a single-sensor fault, 0..2)
   double robust_clip = 3.0;         ///< healthy adaptation: a value's deviation is clipped at this many sd
@@ -124,6 +134,14 @@ class BladeLoadMonitor {
   const HarmonicEstimator& model_estimator(int blade) const { return *model_[blade]; }
   const LidarLoadModel& load_model() const { return lidar_; }
   uint64_t rejected() const { return rejected_; }
+  /// Samples on which the steep-surface gate closed (a blade's pitch where k_M is steep), and revolutions
+  /// that were not tested because of it.
+  uint64_t gated_samples() const { return gated_samples_; }
+  uint64_t gated_revolutions() const { return gated_revolutions_; }
+  /// Relative spread of k_M over pitch +/- gate_pitch_margin at (lambda, pitch) (0 when k_M is 0 there).
+  double model_sensitivity(double lambda, double pitch_deg) const;
+  /// The last revolution's channel values of a blade (NaN: not available).
+  const std::array<double, kChannels>& last_revolution(int blade) const { return last_x_[blade]; }
 
  private:
   struct BladeState {
@@ -131,6 +149,7 @@ class BladeLoadMonitor {
     std::deque<std::array<double, kChannels>> t_history;  // per-revolution outlier t
     std::array<double, kChannels> run_start{};  // start of the channel's continuous same-sign exceedance (-1 none)
     std::array<int, kChannels> run_sign{};
+    std::array<double, kChannels> fast_start{};  // start of the run's stretch above fast_ratio (-1 none)
     bool exceeding = false;     // any eligible channel above its threshold now
     bool drift_firing = false;
     double drift_t = 0.0;
@@ -183,6 +202,12 @@ class BladeLoadMonitor {
   int adaptations_ = 0;
   uint64_t rejected_ = 0;
   double last_pitch_mean_ = 0.0;
+  std::array<std::array<double, kChannels>, 3> last_x_{};
+  // Steep-surface gate.
+  std::array<double, 3> pitch_lp_{kNaN, kNaN, kNaN};
+  uint64_t since_steep_ = UINT64_MAX / 2;  // samples since the last sample with a blade on a steep k_M
+  uint64_t gated_samples_ = 0, gated_revolutions_ = 0;
+  bool gated() const;
 };
 
 }  // namespace windfdi::blade_load
