@@ -31,6 +31,11 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
   app.add_option("--participant-profile", o.participant_profile,
                  "participant profile in the QoS file (default $WINDFDI_PARTICIPANT_PROFILE or "
                  "windfdi_participant)");
+  app.add_option("--security", o.security_dir,
+                 "DDS-Security credentials directory (deploy/security/make_credentials.sh): authentication, "
+                 "access control and encryption; the participant refuses to start without valid credentials");
+  app.add_option("--security-role", o.security_role,
+                 "role whose credentials to use (DIR/ROLE/); default: this executable's role");
 }
 
 int resolve_domain(int flag) {
@@ -52,6 +57,8 @@ bus::ParticipantOptions participant_options(const CommonOptions& o, const std::s
   p.domain = resolve_domain(o.domain);
   p.qos_file = o.qos_file;
   p.name = name;
+  p.security_dir = o.security_dir;
+  p.security_role = o.security_role;
   if (!o.participant_profile.empty()) {
     p.profile = o.participant_profile;
   } else if (const char* env = std::getenv("WINDFDI_PARTICIPANT_PROFILE"); env && *env) {
@@ -63,8 +70,10 @@ bus::ParticipantOptions participant_options(const CommonOptions& o, const std::s
 void setup_logging(const std::string& level, const std::string& name) {
   const auto lvl = spdlog::level::from_str(level);
   if (lvl == spdlog::level::off && level != "off")
-    throw ConfigError("--log-level", 0, "", "'" + level + "' is not one of trace, debug, info, warn, error, "
-                                            "critical, off");
+    throw ConfigError("--log-level", 0, "",
+                      "'" + level +
+                          "' is not one of trace, debug, info, warn, error, "
+                          "critical, off");
   auto logger = spdlog::stderr_color_mt(name);
   spdlog::set_default_logger(logger);
   spdlog::set_level(lvl);

@@ -2,7 +2,6 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
-
 #include <chrono>
 #include <functional>
 #include <string>
@@ -18,14 +17,17 @@ constexpr int kExitFailure = 1;
 constexpr int kExitBadInput = 2;
 
 struct CommonOptions {
-  int domain = -1;                     ///< --domain; -1: $WINDFDI_DOMAIN, else 0
-  std::vector<std::string> turbines;   ///< --turbine (repeatable); empty: every turbine
-  std::string log_level = "info";      ///< --log-level
-  std::string qos_file;                ///< --qos; empty: see bus::resolve_qos_file
-  std::string participant_profile;     ///< --participant-profile; empty: $WINDFDI_PARTICIPANT_PROFILE or default
+  int domain = -1;                    ///< --domain; -1: $WINDFDI_DOMAIN, else 0
+  std::vector<std::string> turbines;  ///< --turbine (repeatable); empty: every turbine
+  std::string log_level = "info";     ///< --log-level
+  std::string qos_file;               ///< --qos; empty: see bus::resolve_qos_file
+  std::string participant_profile;  ///< --participant-profile; empty: $WINDFDI_PARTICIPANT_PROFILE or default
+  std::string security_dir;         ///< --security DIR: DDS-Security credentials (deploy/security/)
+  std::string security_role;        ///< --security-role; empty: the executable's own role
 };
 
-/// Adds --domain, --turbine, --log-level, --qos, --participant-profile and --version.
+/// Adds --domain, --turbine, --log-level, --qos, --participant-profile, --security, --security-role and
+/// --version.
 void add_common_options(CLI::App& app, CommonOptions& options);
 
 /// The domain id: the flag when given, else $WINDFDI_DOMAIN, else 0. A bad value is a ConfigError.
@@ -47,6 +49,7 @@ double wall_time();
 
 /// Parses the command line, sets up logging and signals, runs `body`, and maps errors to exit codes:
 /// CLI errors and ConfigError give 2 with the message on stderr, other exceptions 1.
-int run_main(CLI::App& app, int argc, char** argv, const CommonOptions& options, const std::function<int()>& body);
+int run_main(CLI::App& app, int argc, char** argv, const CommonOptions& options,
+             const std::function<int()>& body);
 
 }  // namespace windfdi

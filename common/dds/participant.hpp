@@ -1,13 +1,14 @@
-// RAII DDS participant built from the XML QoS profiles in deploy/qos/, with its topics, publisher and subscriber.
+// RAII DDS participant built from the XML QoS profiles in deploy/qos/, with its topics, publisher and
+// subscriber.
 #pragma once
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/ContentFilteredTopic.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
-
 #include <map>
 #include <mutex>
 #include <string>
@@ -20,7 +21,39 @@ struct ParticipantOptions {
   std::string qos_file;                         ///< empty: $WINDFDI_QOS_FILE, source tree, /etc/windfdi
   std::string profile = "windfdi_participant";  ///< participant profile in the QoS file
   std::string name = "windfdi";                 ///< participant name shown in discovery
+  std::string security_dir;   ///< --security DIR: DDS-Security credentials (empty: as the XML profile says)
+  std::string security_role;  ///< --security-role; empty: security_role_for(name)
 };
+
+/// The credential files of one participant (absolute paths), laid out by deploy/security/make_credentials.sh:
+/// DIR/ca.pem (identity CA and permissions CA), DIR/governance.p7s,
+/// DIR/<role>/{cert.pem,key.pem,permissions.p7s}.
+struct SecurityFiles {
+  std::string identity_ca, certificate, private_key;    ///< PKI-DH authentication
+  std::string permissions_ca, governance, permissions;  ///< Access-Permissions
+};
+
+/// The security role of a participant name: windfdi-plant -> plant, windfdi-<service> -> <service>,
+/// windfdi-arbiter -> arbiter, windfdi-farm[-ack] -> farm; empty when the name implies none (test peers).
+std::string security_role_for(const std::string& participant_name);
+
+/// The files of `role` under `dir`; a ConfigError when the role is empty or not a plain name.
+SecurityFiles security_files(const std::string& dir, const std::string& role);
+
+/// Checks, before any DDS entity exists, what Fast DDS would check later with a less helpful message: every
+/// file exists and is readable; the CA and the certificate parse and are within their validity dates; the
+/// certificate is issued by the CA; the key belongs to the certificate; governance and permissions are S/MIME
+/// documents signed by the permissions CA; the permissions grant this certificate's subject and are within
+/// their validity dates; with `domain` >= 0, governance and grant cover that domain. Throws ConfigError
+/// naming the offending file.
+void validate_security_files(const SecurityFiles& files, int domain = -1);
+
+/// Adds the DDS-Security properties (PKI-DH, Access-Permissions, AES-GCM-GMAC, file: URIs) to `qos`.
+void add_security_properties(eprosima::fastdds::dds::DomainParticipantQos& qos, const SecurityFiles& files);
+
+/// The security files named by the dds.sec.* properties of `qos` (e.g. from an XML profile); false when the
+/// QoS enables no security plugin. A ConfigError when a plugin is enabled but a file property is missing.
+bool security_files_from_qos(const eprosima::fastdds::dds::DomainParticipantQos& qos, SecurityFiles& files);
 
 /// The QoS profile file actually used for `requested` (see ParticipantOptions::qos_file).
 std::string resolve_qos_file(const std::string& requested);
@@ -38,6 +71,8 @@ class Participant {
   eprosima::fastdds::dds::Publisher* publisher();
   eprosima::fastdds::dds::Subscriber* subscriber();
   int domain() const { return domain_; }
+  /// True when the participant runs with the DDS-Security plugins.
+  bool secure() const { return secure_; }
 
   /// The topic `name` of type `type`, created once per participant.
   eprosima::fastdds::dds::Topic* topic(const std::string& name, eprosima::fastdds::dds::TypeSupport type);
@@ -49,6 +84,7 @@ class Participant {
 
  private:
   int domain_;
+  bool secure_ = false;
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
