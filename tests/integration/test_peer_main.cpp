@@ -6,6 +6,8 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
+
 #include "ControlConfiguration.h"
 #include "app.hpp"
 #include "yaml_config.hpp"
@@ -48,11 +50,38 @@ int publish(const CommonOptions& common, const std::vector<std::string>& ids, in
   return failures == 0 ? 0 : 1;
 }
 
+// Counts what discovery reports: remote participants (their SPDP announcements are plain text even under
+// DDS-Security, which needs them for the handshake) and remote writers and readers of any topic (SEDP, which
+// the governance encrypts: an unauthenticated peer must see none).
+struct DiscoveryCounter : eprosima::fastdds::dds::DomainParticipantListener {
+  std::atomic<int> participants{0}, writers{0}, readers{0};
+  void on_participant_discovery(eprosima::fastdds::dds::DomainParticipant*,
+                                eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
+    if (info.status == eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERED_PARTICIPANT) ++participants;
+  }
+  // Fast DDS reports the participant's own endpoints here too: only other participants' count.
+  void on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant* self,
+                              eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override {
+    if (info.status == eprosima::fastrtps::rtps::WriterDiscoveryInfo::DISCOVERED_WRITER &&
+        info.info.guid().guidPrefix != self->guid().guidPrefix)
+      ++writers;
+  }
+  void on_subscriber_discovery(eprosima::fastdds::dds::DomainParticipant* self,
+                               eprosima::fastrtps::rtps::ReaderDiscoveryInfo&& info) override {
+    if (info.status == eprosima::fastrtps::rtps::ReaderDiscoveryInfo::DISCOVERED_READER &&
+        info.info.guid().guidPrefix != self->guid().guidPrefix)
+      ++readers;
+  }
+};
+
 int listen(const CommonOptions& common, uint64_t expect, double timeout) {
+  DiscoveryCounter discovery;  // outlives the participant
   bus::Participant participant(participant_options(common, "windfdi-test-peer"));
+  // Set before any other participant of the test starts (the tests start the listener first).
+  participant.get()->set_listener(&discovery, eprosima::fastdds::dds::StatusMask::none());
   bus::Wakeup wakeup;
   bus::Reader<windfdi::TurbineFrame> reader(participant, common.turbines, &wakeup);
-  std::map<std::string, uint64_t> count, gaps, next;
+  std::map<std::string, uint64_t> count, gaps, next, first;
   uint64_t total = 0;
   const double start = wall_time();
   std::vector<windfdi::TurbineFrame> frames;
@@ -66,14 +95,24 @@ int listen(const CommonOptions& common, uint64_t expect, double timeout) {
       for (const auto& s : f.samples()) {
         const std::string& id = f.turbine_id();
         if (next.count(id) && s.sequence() != next[id]) gaps[id] += s.sequence() - next[id];
+        if (!first.count(id)) first[id] = s.sequence();
         next[id] = s.sequence() + 1;
         ++count[id];
         ++total;
       }
     }
   }
-  nlohmann::json out{{"total", total}, {"counts", count}, {"gaps", gaps}};
+  nlohmann::json out{{"total", total},
+                     {"counts", count},
+                     {"gaps", gaps},
+                     {"first", first},
+                     {"next", next},
+                     {"participants_discovered", discovery.participants.load()},
+                     {"writers_discovered", discovery.writers.load()},
+                     {"readers_discovered", discovery.readers.load()},
+                     {"matched_writers", reader.matched()}};
   std::cout << out.dump() << std::endl;
+  participant.get()->set_listener(nullptr);
   // Asked to stop (SIGTERM/SIGINT): a clean exit; otherwise success means everything expected arrived.
   return (shutdown_requested() || total >= expect) ? 0 : 1;
 }
@@ -135,11 +174,38 @@ int configs(const CommonOptions& common, double timeout) {
                                   {"mode", static_cast<int>(c.mode())}, {"ipc_source", static_cast<int>(c.ipc_source())},
                                   {"ice_mode", static_cast<int>(c.ice_mode())},
                                   {"pitch_rate_limit", c.pitch_rate_limit()},
+                                  {"use_corrected_rotor_speed", c.use_corrected_rotor_speed()},
                                   {"use_corrected_generator_speed", c.use_corrected_generator_speed()},
+                                  {"use_corrected_pitch", c.use_corrected_pitch()},
                                   {"reasons", c.reasons().size()}}
                        .dump()
                 << std::endl;
   }
+  return 0;
+}
+
+// Publishes a safe-stop ControlConfiguration for one turbine as `arbiter_id` with a high ownership strength,
+// every 0.5 s for `hold` s (the security tests run it with roles that may or may not publish configurations).
+int control(const CommonOptions& common, const std::string& turbine, const std::string& arbiter_id, double hold) {
+  bus::Participant participant(participant_options(common, "windfdi-test-peer-control"));
+  bus::Writer<windfdi::ControlConfiguration> writer(
+      participant, "control", [](eprosima::fastdds::dds::DataWriterQos& q) { q.ownership_strength().value = 1000; });
+  std::cout << "{\"ready\":true}" << std::endl;
+  const double start = wall_time();
+  uint64_t revision = 0, written = 0;
+  while (!shutdown_requested() && wall_time() - start < hold) {
+    windfdi::ControlConfiguration c;
+    c.t(wall_time());
+    c.turbine_id(turbine);
+    c.revision(++revision);
+    c.arbiter_id(arbiter_id);
+    c.mode(windfdi::MODE_SAFE_STOP);
+    for (auto& r : c.pitch_rate_limit()) r = 10.0;
+    if (writer.write(c)) ++written;
+    writer.assert_liveliness();
+    sleep_unless_shutdown(std::chrono::milliseconds(500));
+  }
+  std::cout << nlohmann::json{{"written", written}, {"matched", writer.matched()}}.dump() << std::endl;
   return 0;
 }
 
@@ -154,13 +220,13 @@ int main(int argc, char** argv) {
   int blocks = 100, block_size = 10, readers = 1;
   double rate = 100.0, timeout = 30.0;
   uint64_t expect = 0;
-  app.add_option("mode", mode, "publish, listen, fault or configs")
-      ->check(CLI::IsMember({"publish", "listen", "fault", "configs"}));
+  app.add_option("mode", mode, "publish, listen, fault, configs or control")
+      ->check(CLI::IsMember({"publish", "listen", "fault", "configs", "control"}));
   std::string turbine = "WT01", source = "pitch_diag";
   std::vector<std::string> script;
   double hold = 30.0;
   app.add_option("--turbine-id", turbine, "fault mode: turbine of the reports");
-  app.add_option("--source", source, "fault mode: service name to report as");
+  app.add_option("--source", source, "fault mode: service name to report as; control mode: arbiter id");
   app.add_option("--script", script, "fault mode: AT:component:class:severity:raised|cleared (repeatable)");
   app.add_option("--hold", hold, "fault mode: seconds to stay alive");
   app.add_option("--ids", ids, "turbine ids to publish")->delimiter(',');
@@ -174,6 +240,7 @@ int main(int argc, char** argv) {
     if (mode == "publish") return publish(common, ids, blocks, block_size, readers, rate);
     if (mode == "fault") return fault(common, turbine, source, script, hold);
     if (mode == "configs") return configs(common, timeout);
+    if (mode == "control") return control(common, turbine, source, hold);
     return listen(common, expect, timeout);
   });
 }

@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# Starts a whole simulated farm on one DDS domain: every diagnostic service (farm-wide instances), the
+# arbiter (and a standby), the farm monitor with its live table on this terminal, then the plant with a
+# scenario. Stops everything when the plant ends or on Ctrl-C.
+# Usage: launch_farm.sh SCENARIO.yaml [--rate R] [--domain N] [--work DIR] [--standby] [--record]
+#                       [--table-period S] [--security DIR]
+#   --rate R        plant speed-up (default 1: real time)      --work DIR   logs, farm.sqlite, recording
+#   --standby       also a standby arbiter (strength 10)       --record     plant writes DIR/frames.csv.gz
+#   --table-period  seconds between live-table refreshes (2)   --security   DDS-Security credentials dir
+set -euo pipefail
+top=$(cd "$(dirname "$0")/../.." && pwd)
+bin=${WINDFDI_BIN:-${WINDFDI_BUILD_DIR:-$top/build}/bin}
+usage="usage: launch_farm.sh SCENARIO.yaml [--rate R] [--domain N] [--work DIR] [--standby] [--record] [--table-period S] [--security DIR]"
+scenario=${1:?$usage}
+shift
+[ -f "$scenario" ] || { echo "launch_farm: no scenario file $scenario" >&2; exit 2; }
+rate=1
+work=$top/build/farm
+standby=0
+record=()
+table=2
+security=()
+domain=${WINDFDI_DOMAIN:-0}
+while [ $# -gt 0 ]; do
+  case $1 in
+    --rate) rate=$2; shift 2 ;;
+    --domain) domain=$2; shift 2 ;;
+    --work) work=$2; shift 2 ;;
+    --standby) standby=1; shift ;;
+    --record) record=(--record "$work/frames.csv.gz" --record-truth); shift ;;
+    --table-period) table=$2; shift 2 ;;
+    --security) security=(--security "$2"); shift 2 ;;
+    *) echo "launch_farm: unknown option $1 ($usage)" >&2; exit 2 ;;
+  esac
+done
+export WINDFDI_DOMAIN=$domain
+mkdir -p "$work/logs"
+pids=()
+stop() {
+  kill -TERM "${pids[@]}" 2>/dev/null || true
+  wait 2>/dev/null || true
+}
+trap stop EXIT INT TERM
+
+echo "launch_farm: domain $domain, scenario $scenario at ${rate}x, logs in $work/logs"
+for service in blade-load sensor-bias pitch-diag ice-detect; do
+  exe="$bin/windfdi-$service"
+  if [ ! -x "$exe" ]; then echo "launch_farm: $exe not built, skipped" >&2; continue; fi
+  cfg="$top/deploy/config/${service//-/_}.yaml"
+  args=("${security[@]}")
+  [ -f "$cfg" ] && args+=(--config "$cfg")
+  "$exe" "${args[@]}" >"$work/logs/$service.log" 2>&1 &
+  pids+=($!)
+done
+"$bin/windfdi-arbiter" --config "$top/deploy/config/arbiter.yaml" --arbiter-id primary --strength 100 \
+  "${security[@]}" >"$work/logs/arbiter.log" 2>&1 &
+pids+=($!)
+if [ "$standby" = 1 ]; then
+  "$bin/windfdi-arbiter" --config "$top/deploy/config/arbiter.yaml" --arbiter-id standby --strength 10 \
+    "${security[@]}" >"$work/logs/arbiter-standby.log" 2>&1 &
+  pids+=($!)
+fi
+"$bin/windfdi-farm" --db "$work/farm.sqlite" --table-period "$table" "${security[@]}" 2>"$work/logs/farm.log" &
+farm=$!
+pids+=($farm)
+sleep 2  # the services discover each other before the first frame
+"$bin/windfdi-plant" --scenario "$scenario" --rate "$rate" "${record[@]}" --progress 0 "${security[@]}" \
+  >"$work/logs/plant.log" 2>&1 || echo "launch_farm: the plant exited with $? (see $work/logs/plant.log)" >&2
+sleep 5  # the last reports and configurations reach the farm monitor
+kill -TERM "$farm" 2>/dev/null || true
+wait "$farm" 2>/dev/null || true
