@@ -99,6 +99,10 @@ void Identifier::reset() {
 void Identifier::restart() {
   started_ = false;
   since_restart_ = 0;
+  // Held until eq 20 holds again on data after the restart: the old excitation says nothing about now.
+  excited_ = cfg_.pe_threshold <= 0.0;  // without the eq 20 gate every sample counts as exciting
+  R_pe_.setZero();
+  pe_count_ = 0;
   ring_head_ = 0;
   ring_fill_ = 0;
   u1_ = u2_ = u3_ = u4_ = 0.0;

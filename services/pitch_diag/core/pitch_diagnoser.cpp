@@ -48,6 +48,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s) {
                         "fault_alpha",
                         "abrupt_time",
                         "shared_alpha",
+                        "max_tracking_error",
                         "pitch_min",
                         "pitch_max"});
   PitchDiagConfig c;
@@ -103,6 +104,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s) {
   c.fault_alpha = s.get_number("fault_alpha", c.fault_alpha, 0.0, 2.0);
   c.abrupt_time = s.get_number("abrupt_time", c.abrupt_time, 0.0, 3600.0);
   c.shared_alpha = s.get_number("shared_alpha", c.shared_alpha, 0.0, 1.0);
+  c.max_tracking_error = s.get_number("max_tracking_error", c.max_tracking_error, 0.0, 180.0);
   c.pitch_min = s.get_number("pitch_min", c.pitch_min, -90.0, 90.0);
   c.pitch_max = s.get_number("pitch_max", c.pitch_max, c.pitch_min, 180.0);
   return c;
@@ -232,6 +234,13 @@ void PitchDiagnoser::update(const FrameSample& s, std::vector<PitchEvent>& event
     if (!ok) {
       ++rejected_[i];
       blades_[i].restart();  // never fed; the history is broken
+      continue;
+    }
+    if (cfg_.max_tracking_error > 0.0 && std::fabs(u - y) > cfg_.max_tracking_error) {
+      // The actuator model (eqs 6-9) is linear; at its rate limit the actuator is not, and its slow ramp
+      // would read as a leaking actuator. Held (not excited) until it tracks its reference again.
+      ++saturated_[i];
+      blades_[i].restart();
       continue;
     }
     blades_[i].update(u, y);

@@ -27,8 +27,11 @@ struct PitchDiagConfig {
   double abrupt_time = 10.0;     ///< s; the pump-wear point reached this fast from healthy: pump_wear,
                                  ///< slower (a gradual drift along the shared path): hydraulic_leakage
   double shared_alpha = 0.8;     ///< alpha on the shorter (pump-wear) path that counts as reaching its point
-  double pitch_min = -5.0;       ///< deg; pitch or reference below it is rejected
-  double pitch_max = 95.0;       ///< deg; above it is rejected
+  double max_tracking_error = 5.0;  ///< deg; |reference - pitch| above it means the actuator is at its rate
+                                    ///< limit (a safe stop's jump to feather): the linear model does not hold
+                                    ///< and nothing is identified. Healthy lag 1 deg at 10 deg/s; 0 disables
+  double pitch_min = -5.0;          ///< deg; pitch or reference below it is rejected
+  double pitch_max = 95.0;          ///< deg; above it is rejected
 };
 
 /// Loads the pitch_diag keys of `section` (unknown keys and out-of-range values are ConfigErrors).
@@ -108,6 +111,8 @@ class PitchDiagnoser {
   uint64_t rejected(int blade) const { return rejected_[blade]; }
   uint64_t rejected() const { return rejected_[0] + rejected_[1] + rejected_[2]; }
   uint64_t gaps() const { return gaps_; }
+  /// Samples of blade i left out because its actuator was at its rate limit (max_tracking_error).
+  uint64_t saturated(int blade) const { return saturated_[blade]; }
   const BladeDiagnoser& blade(int i) const { return blades_[i]; }
   const PitchDiagConfig& config() const { return cfg_; }
 
@@ -115,6 +120,7 @@ class PitchDiagnoser {
   PitchDiagConfig cfg_;
   std::vector<BladeDiagnoser> blades_;
   std::array<uint64_t, kBlades> rejected_{};
+  std::array<uint64_t, kBlades> saturated_{};
   uint64_t gaps_ = 0;
   bool have_last_ = false;
   uint64_t last_sequence_ = 0;
