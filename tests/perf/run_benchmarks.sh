@@ -11,6 +11,10 @@ echo "== pitch_diag_plant"
 "$bin/pitch_diag_plant" 3600
 echo "== ice_detect_plant"
 "$bin/ice_detect_plant" 3600 3
+echo "== system_latency"
+"$top/tests/perf/system_latency.sh" 10 90
+echo "== farm_capacity"
+"$top/tests/perf/farm_capacity.sh" 30 10 20 40 80
 echo "== ipc_value"
 "$bin/ipc_value" 5 3
 echo "== plant_farm_cpu"
