@@ -53,8 +53,11 @@ TurbineParams load_turbine_params_file(const std::string& path) {
 
 double AeroModel::power_coefficient(double lambda, double beta) {
   if (lambda <= 0.0) return 0.0;
-  // Heier / Slootweg analytic Cp(lambda, beta).
-  const double inv_li = 1.0 / (lambda + 0.08 * beta) - 0.035 / (beta * beta * beta + 1.0);
+  // Heier / Slootweg analytic Cp(lambda, beta). The fit is made for beta >= 0: its 0.035 / (beta^3 + 1) is singular
+  // at beta = -1 deg, which individual pitch control reaches below fine pitch. Holding that term at its beta = 0
+  // value below 0 keeps Cp smooth (C2 at 0) and thrust rising towards stall, as pitching to feather lowers it.
+  const double beta_pos = std::max(beta, 0.0);
+  const double inv_li = 1.0 / (lambda + 0.08 * beta) - 0.035 / (beta_pos * beta_pos * beta_pos + 1.0);
   const double cp = 0.5176 * (116.0 * inv_li - 0.4 * beta - 5.0) * std::exp(-21.0 * inv_li) + 0.0068 * lambda;
   return std::clamp(cp, 0.0, 16.0 / 27.0);
 }

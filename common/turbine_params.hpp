@@ -47,6 +47,7 @@ TurbineParams load_turbine_params_file(const std::string& path);
 
 /// Aerodynamics: the Heier/Slootweg analytic power coefficient
 ///   Cp = c1 (c2/li - c3 beta - c4) exp(-c5/li) + c6 lambda,  1/li = 1/(lambda + 0.08 beta) - 0.035/(beta^3 + 1)
+/// with max(beta, 0) in the cubic term (the fit is singular at beta = -1 deg, which IPC reaches below fine pitch)
 /// (c = 0.5176, 116, 0.4, 5, 21, 0.0068; max Cp 0.48 at lambda 8.1, beta 0), and thrust from momentum
 /// theory: the axial induction a with Cp = 4a(1-a)^2 (a <= 1/3) gives Ct = 4a(1-a). A blade's flapwise
 /// root moment is its third of the thrust at 2/3 of the radius: M = Ct q A (2R/3) / 3, q = rho v^2 / 2.

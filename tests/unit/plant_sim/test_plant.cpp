@@ -76,6 +76,21 @@ TEST(Aero, CpMaximumAndThrustFromMomentumTheory) {
   EXPECT_LT(AeroModel::thrust_coefficient(8.1, 10.0), ct);
 }
 
+TEST(Aero, CpIsSmoothBelowFinePitchWhereTheHeierFitIsSingular) {
+  // Heier's 0.035 / (beta^3 + 1) is singular at beta = -1 deg; IPC takes blades there below fine pitch. Cp and
+  // thrust must change smoothly over -2..2 deg (a 0.01 deg step moves Cp by under 0.005; the singular fit jumped
+  // by 0.4) and, around and above the optimal tip-speed ratio, the load must rise towards stall (more thrust at
+  // -1 deg than at fine pitch).
+  for (double lambda = 6.0; lambda <= 12.0; lambda += 1.0) {
+    for (double beta = -2.0; beta < 2.0; beta += 0.01) {
+      const double step = std::fabs(AeroModel::power_coefficient(lambda, beta + 0.01) -
+                                    AeroModel::power_coefficient(lambda, beta));
+      ASSERT_LT(step, 5e-3) << "lambda " << lambda << " beta " << beta;
+    }
+    EXPECT_GT(AeroModel::thrust_coefficient(lambda, -1.0), AeroModel::thrust_coefficient(lambda, 0.0)) << lambda;
+  }
+}
+
 // Fits omega_n and zeta to a unit step response by least squares on a grid (independent of the integrator).
 std::pair<double, double> fit_second_order(const std::vector<double>& y, double h, double wn0, double z0) {
   double best = 1e300, bw = wn0, bz = z0;
