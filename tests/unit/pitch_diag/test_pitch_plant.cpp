@@ -68,6 +68,25 @@ TEST(PitchDiagPlant, EveryFaultOnEveryBladeIsClassifiedInRegion3) {
     }
 }
 
+TEST(PitchDiagPlant, PumpWearAfterAHoldAtFinePitchIsPumpWearNotLeakage) {
+  // GIVEN the plant at 14 m/s (recording 902 of tests/perf/pitch_diag_plant): blade 2's reference sits at
+  // fine pitch (0 deg, no excitation, estimate held) from before the onset until 61.5 s, and its actuator
+  // takes on the pump-wear dynamics abruptly at 60 s. Pump wear is the leakage path at alpha 0.5, so only the
+  // history tells them apart; the 17 s of hold since the blade last looked healthy must not read as a slow
+  // drift along the leakage path.
+  const double t_on = 60.0;
+  const auto r = run_plant(14.0, t_on + 20.0, {actuator_fault(1, "pump_wear", t_on)}, 902);
+  // THEN the first event raises pump_wear on pitch_actuator_2 within 10 s of the onset, and no leakage
+  ASSERT_FALSE(r.events.empty());
+  const auto& e = r.events.front();
+  EXPECT_EQ(e.component, "pitch_actuator_2");
+  EXPECT_EQ(e.fault, "pump_wear");
+  EXPECT_TRUE(e.raised);
+  EXPECT_GT(e.t, t_on);
+  EXPECT_LE(e.t - t_on, 10.0);
+  for (const auto& x : r.events) EXPECT_NE(x.fault, "hydraulic_leakage") << x.component << " at " << x.t;
+}
+
 TEST(PitchDiagPlant, HalfDevelopedLeakageIsReportedWithItsAlphaNotAsPumpWear) {
   // GIVEN a hydraulic leakage on blade 3 developing over 120 s to alpha 0.5: the dynamics of full pump wear
   plant::FaultSpec f = actuator_fault(2, "hydraulic_leakage", 30.0);
