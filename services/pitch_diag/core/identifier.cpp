@@ -259,8 +259,8 @@ void Identifier::oe_refresh() {
 }
 
 void Identifier::bank_step(double yf, bool learn) {
-  // Every model of the bank simulated from the reference; residual variance with forgetting. Without the eq 20
-  // gate a sample that does not move the pitch adds the same residual to every model, so it changes no
+  // Every model of the bank simulated from the reference; residual variance with forgetting. Without the eq
+  // 20 gate a sample that does not move the pitch adds the same residual to every model, so it changes no
   // decision; it only lets the old evidence fade, which evidence() sees.
   const Eigen::ArrayXd x = -ba1_ * bx1_ - ba2_ * bx2_ + bb1_ * u1_ + bb2_ * u2_;
   if (learn) {

@@ -47,10 +47,10 @@ struct IdentifierConfig {
   int bank_steps = 10;          ///< bank models per fault path (alpha = 1/n .. 1)
   bool bank_pe_gate = true;     ///< bank: eq 20 gates the residuals (false: every settled sample counts and
                                 ///< only evidence_min decides; the estimate then drifts while unexcited)
-  double evidence_min = 25.0;   ///< bank: log-likelihood ratio (V_healthy - V_best) / sigma^2 a fault decision
-                                ///< needs (25: 5 sigma against the healthy actuator); 0 disables
-  double decide_alpha = 0.25;   ///< bank: best models from this alpha are fault decisions (the classifier's
-                                ///< alpha_detect; set by the loader)
+  double evidence_min = 25.0;  ///< bank: log-likelihood ratio (V_healthy - V_best) / sigma^2 a fault decision
+                               ///< needs (25: 5 sigma against the healthy actuator); 0 disables
+  double decide_alpha = 0.25;  ///< bank: best models from this alpha are fault decisions (the classifier's
+                               ///< alpha_detect; set by the loader)
   std::vector<Signature> signatures = table1_signatures();  ///< bank paths ([0] healthy)
 };
 
