@@ -1,7 +1,8 @@
 // Measures windfdi-pitch-diag's methods (seed 002 paper modes and the default) on the same plant recordings:
 // detection delay of abrupt Table 1 faults in region 3 and false alarms in healthy hours, with the
 // benchmark's 0.2 deg pitch noise. Usage: pitch_diag_plant [healthy_seconds=3600] [method ...] (default:
-// every method); VERBOSE=1 lists the runs that were missed, wrong or slower than 10 s.
+// every method); VERBOSE=1 lists the runs that were missed, wrong or slower than 10 s; PITCH_DIAG_CONFIG=file
+// starts every method from that pitch_diag YAML section instead of the defaults.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -99,8 +100,11 @@ int main(int argc, char** argv) {
       "| method | right first event | wrong first | missed | delay median / max s | within 10 s at 14/17/20 "
       "m/s | "
       "false alarms 8/12/16/20 m/s | blade-samples/s |\n|---|---|---|---|---|---|---|---|\n");
+  PitchDiagConfig base;
+  if (const char* file = std::getenv("PITCH_DIAG_CONFIG"))
+    base = load_pitch_diag_config(YamlSection(YAML::LoadFile(file), file));
   for (Method m : methods) {
-    PitchDiagConfig cfg;
+    PitchDiagConfig cfg = base;
     cfg.identifier.method = m;
     if (m == Method::kPaperMifg || m == Method::kPaperRls)
       cfg.identifier.highpass_hz = 0.0;  // raw, as printed

@@ -61,10 +61,10 @@ Identifier::Identifier(const IdentifierConfig& config) : cfg_(config) {
     bpath_.assign(models, -1);
     balpha_.assign(models, 0.0);
     for (int m = 0; m < models; ++m) {
-      double wn = sig[0].omega_n, z = sig[0].zeta;
+      double wn = sig[0].omega_n, z = sig[0].zeta, alpha = 0.0;
       if (m > 0) {
         const int k = (m - 1) / n;
-        const double alpha = static_cast<double>((m - 1) % n + 1) / n;
+        alpha = static_cast<double>((m - 1) % n + 1) / n;
         bpath_[m] = k;
         balpha_[m] = alpha;
         wn = (1.0 - alpha) * sig[0].omega_n + alpha * sig[k + 1].omega_n;
@@ -81,6 +81,7 @@ Identifier::Identifier(const IdentifierConfig& config) : cfg_(config) {
 }
 
 void Identifier::reset() {
+  started_ = false;  // level removal starts again from the next sample
   theta_ = theta0_;
   theta_sim_ = theta0_;
   eta_ = Eigen::Vector2d(cfg_.omega_n0, cfg_.zeta0);
@@ -92,12 +93,21 @@ void Identifier::reset() {
   R_pe_.setZero();
   excited_ = cfg_.pe_threshold <= 0.0;
   pe_count_ = 0;
-  if (cfg_.method == Method::kBank) bV_ = Eigen::ArrayXd::Zero(ba1_.size());
+  if (cfg_.method == Method::kBank) {
+    bV_ = Eigen::ArrayXd::Zero(ba1_.size());
+    bx1_ = Eigen::ArrayXd::Zero(ba1_.size());
+    bx2_ = Eigen::ArrayXd::Zero(ba1_.size());
+  }
+  bW_ = 0.0;
   restart();
 }
 
 void Identifier::restart() {
-  started_ = false;
+  // The level-removal filters keep their state: the next sample continues them as if the lost stretch had
+  // been one step, so u_f and y_f keep the same levels. Restarting them at the new sample instead put the
+  // tracking error and that sample's pitch noise into y_f as a step that the 0.02 Hz high-pass takes 8 s to
+  // forget: an offset common to every residual, which biased the bank for seconds after each gap.
+  reseat_ = true;
   since_restart_ = 0;
   // Held until eq 20 holds again on data after the restart: the old excitation says nothing about now.
   excited_ = cfg_.pe_threshold <= 0.0;  // without the eq 20 gate every sample counts as exciting
@@ -105,14 +115,8 @@ void Identifier::restart() {
   pe_count_ = 0;
   ring_head_ = 0;
   ring_fill_ = 0;
-  u1_ = u2_ = u3_ = u4_ = 0.0;
-  y1_ = y2_ = x1_ = x2_ = 0.0;
   psi1_.setZero();
   psi2_.setZero();
-  if (cfg_.method == Method::kBank) {
-    bx1_ = Eigen::ArrayXd::Zero(ba1_.size());
-    bx2_ = Eigen::ArrayXd::Zero(ba1_.size());
-  }
 }
 
 void Identifier::update(double u, double y) {
@@ -134,6 +138,19 @@ void Identifier::update(double u, double y) {
   y_raw1_ = y;
   uf_ = uf;
   yf_ = yf;
+  if (reseat_) {
+    // After a (re)start the history is this sample: regressor lags, the auxiliary model and every bank model
+    // at rest at the current reference. The actuator's own state differs (tracking lag, rate, noise); that
+    // transient decays with its dynamics within restart_settle, in which nothing is identified.
+    reseat_ = false;
+    u1_ = u2_ = u3_ = u4_ = uf;
+    y1_ = y2_ = yf;
+    x1_ = x2_ = uf;
+    if (cfg_.method == Method::kBank) {
+      bx1_.setConstant(uf);
+      bx2_.setConstant(uf);
+    }
+  }
 
   if (since_restart_ >= 4 && cfg_.pe_threshold > 0.0) {
     // Eq 20 on psi = M phi_u, a non-singular difference basis of the input lags u(t-1..t-4): the same PE
@@ -155,8 +172,9 @@ void Identifier::update(double u, double y) {
 
   const bool learn = excited_ && since_restart_ >= settle_samples_;
   if (cfg_.method == Method::kBank) {
-    bank_step(yf);
-    if (learn) ++updates_;
+    const bool bank_learn = (excited_ || !cfg_.bank_pe_gate) && since_restart_ >= settle_samples_;
+    bank_step(yf, bank_learn);
+    if (bank_learn) ++updates_;
   } else {
     const bool oe = cfg_.method == Method::kOeRls;
     const bool am = oe || cfg_.method == Method::kAmMifg || cfg_.method == Method::kAmRls;
@@ -240,10 +258,15 @@ void Identifier::oe_refresh() {
               (2.0 * hz);
 }
 
-void Identifier::bank_step(double yf) {
-  // Every model of the bank simulated from the reference; residual variance with forgetting when excited.
+void Identifier::bank_step(double yf, bool learn) {
+  // Every model of the bank simulated from the reference; residual variance with forgetting. Without the eq
+  // 20 gate a sample that does not move the pitch adds the same residual to every model, so it changes no
+  // decision; it only lets the old evidence fade, which evidence() sees.
   const Eigen::ArrayXd x = -ba1_ * bx1_ - ba2_ * bx2_ + bb1_ * u1_ + bb2_ * u2_;
-  if (excited_ && since_restart_ >= settle_samples_) bV_ = cfg_.bank_lambda * bV_ + (yf - x).square();
+  if (learn) {
+    bV_ = cfg_.bank_lambda * bV_ + (yf - x).square();
+    bW_ = cfg_.bank_lambda * bW_ + 1.0;
+  }
   bx2_ = bx1_;
   bx1_ = x;
 }
@@ -283,6 +306,27 @@ Theta Identifier::theta() const {
   const double wn = (1.0 - alpha) * sig[0].omega_n + alpha * sig[path + 1].omega_n;
   const double z = (1.0 - alpha) * sig[0].zeta + alpha * sig[path + 1].zeta;
   return theta_from_continuous(wn, z, cfg_.T);
+}
+
+bool Identifier::decisive() const {
+  if (updates_ == 0) return false;
+  if (cfg_.method != Method::kBank) return excited_;
+  if (cfg_.bank_pe_gate && !excited_) return false;
+  if (since_restart_ < settle_samples_) return false;
+  if (cfg_.evidence_min <= 0.0) return true;
+  // A fault decision needs the data to reject the healthy actuator; "none" needs no more than eq 20.
+  Eigen::Index best;
+  bV_.minCoeff(&best);
+  const bool fault = bpath_[best] >= 0 && balpha_[best] >= cfg_.decide_alpha - 1e-9;
+  return !fault || evidence() >= cfg_.evidence_min;
+}
+
+double Identifier::evidence() const {
+  if (cfg_.method != Method::kBank || bW_ <= 0.0) return 0.0;
+  // Log-likelihood ratio of the best model against the healthy one for Gaussian residuals of the best
+  // model's variance: (V_healthy - V_best) / sigma^2 (0 when the healthy model is the best).
+  const double vb = bV_.minCoeff();
+  return (bV_(0) - vb) / std::max(vb / bW_, 1e-12);
 }
 
 double Identifier::excitation() const {

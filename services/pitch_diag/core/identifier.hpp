@@ -45,6 +45,12 @@ struct IdentifierConfig {
   double pe_threshold = 0.02;   ///< deg^2, alpha of eq 20: smallest eigenvalue required; 0: always excited
   double bank_lambda = 0.995;   ///< bank residual forgetting factor (memory 2 s)
   int bank_steps = 10;          ///< bank models per fault path (alpha = 1/n .. 1)
+  bool bank_pe_gate = true;     ///< bank: eq 20 gates the residuals (false: every settled sample counts and
+                                ///< only evidence_min decides; the estimate then drifts while unexcited)
+  double evidence_min = 25.0;  ///< bank: log-likelihood ratio (V_healthy - V_best) / sigma^2 a fault decision
+                               ///< needs (25: 5 sigma against the healthy actuator); 0 disables
+  double decide_alpha = 0.25;  ///< bank: best models from this alpha are fault decisions (the classifier's
+                               ///< alpha_detect; set by the loader)
   std::vector<Signature> signatures = table1_signatures();  ///< bank paths ([0] healthy)
 };
 
@@ -55,7 +61,8 @@ class Identifier {
 
   /// One valid sample: reference u(t) and measured pitch y(t) (deg).
   void update(double u, double y);
-  /// The history is broken (lost or rejected samples): restart regressors and filters, keep theta.
+  /// The history is broken (lost or rejected samples): restart the regressor history from the next sample
+  /// (the level-removal filters continue across the break), keep theta.
   void restart();
   /// Back to the initial model as well.
   void reset();
@@ -65,6 +72,13 @@ class Identifier {
   ContinuousModel model() const { return continuous_from_theta(theta(), cfg_.T); }
   /// Eq 20 held over the last window (the estimate is being updated); false: held.
   bool excited() const { return excited_; }
+  /// A decision may be taken on the current estimate: eq 20 held (paper and RLS modes; the bank when
+  /// bank_pe_gate), settled, and for a bank fault decision (best alpha >= decide_alpha) evidence() >=
+  /// evidence_min.
+  bool decisive() const;
+  /// Bank: (V_healthy - V_best) / sigma^2, sigma^2 = V_best / W the best model's mean square residual: the
+  /// log-likelihood ratio of the best model against the healthy actuator. Other methods: 0.
+  double evidence() const;
   /// Smallest eigenvalue of the eq 20 matrix (deg^2); computed on demand.
   double excitation() const;
   const IdentifierConfig& config() const { return cfg_; }
@@ -73,7 +87,7 @@ class Identifier {
 
  private:
   void identify(double uf, double yf);
-  void bank_step(double yf);
+  void bank_step(double yf, bool learn);
 
   IdentifierConfig cfg_;
   Theta theta0_;
@@ -82,6 +96,7 @@ class Identifier {
   int settle_samples_;
   // Filters and regressor history (after level removal).
   bool started_ = false;
+  bool reseat_ = true;  // the next sample restarts the regressor history (level filters continue)
   double u_raw1_ = 0.0, y_raw1_ = 0.0, uf_ = 0.0, yf_ = 0.0;
   double u1_ = 0.0, u2_ = 0.0, u3_ = 0.0, u4_ = 0.0;  // u_f(t-1..t-4)
   double y1_ = 0.0, y2_ = 0.0;                        // y_f(t-1), y_f(t-2)
@@ -109,6 +124,7 @@ class Identifier {
   uint64_t updates_ = 0;
   // Bank: structure of arrays (vectorised over the models).
   Eigen::ArrayXd ba1_, ba2_, bb1_, bb2_, bx1_, bx2_, bV_;
+  double bW_ = 0.0;             // sum of the forgetting weights of bV_ (its sample count)
   std::vector<int> bpath_;      // path index of each model (-1 healthy)
   std::vector<double> balpha_;  // alpha of each model
 };

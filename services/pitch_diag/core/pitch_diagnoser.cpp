@@ -34,6 +34,8 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s) {
                         "pe_threshold",
                         "bank_lambda",
                         "bank_steps",
+                        "bank_pe_gate",
+                        "evidence_min",
                         "signatures",
                         "omega_scale",
                         "zeta_scale",
@@ -71,6 +73,8 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s) {
   id.pe_threshold = s.get_number("pe_threshold", id.pe_threshold, 0.0, 1e6);
   id.bank_lambda = s.get_number("bank_lambda", id.bank_lambda, 0.9, 0.999999);
   id.bank_steps = static_cast<int>(s.get_number("bank_steps", id.bank_steps, 1, 100));
+  id.bank_pe_gate = s.get<bool>("bank_pe_gate", id.bank_pe_gate);
+  id.evidence_min = s.get_number("evidence_min", id.evidence_min, 0.0, 1e4);
   if (s.has("signatures")) {
     std::vector<Signature> sig;
     std::set<std::string> seen;
@@ -94,6 +98,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s) {
   k.omega_scale = s.get_number("omega_scale", k.omega_scale, 1e-3, 100.0);
   k.zeta_scale = s.get_number("zeta_scale", k.zeta_scale, 1e-4, 10.0);
   k.alpha_detect = s.get_number("alpha_detect", k.alpha_detect, 0.01, 1.0);
+  id.decide_alpha = k.alpha_detect;
   k.ambiguity_margin = s.get_number("ambiguity_margin", k.ambiguity_margin, 0.0, 100.0);
   k.max_distance = s.get_number("max_distance", k.max_distance, 0.0, 1e3);
   c.estimate_period = s.get_number("estimate_period", c.estimate_period, id.T, 10.0);
@@ -141,8 +146,8 @@ void BladeDiagnoser::emit(double t, const std::string& fault, bool raised, std::
 }
 
 void BladeDiagnoser::tick(double t, double dt, std::vector<PitchEvent>& events) {
+  if (!id_.decisive()) return;  // held: no decision (and the published estimate is the last decided one)
   model_ = id_.model();
-  if (!id_.excited() || id_.updates() == 0) return;  // held: no decision on stale data
   if (!model_.valid) {
     cls_ = Classification{};
     cls_.fits = false;
@@ -152,8 +157,10 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<PitchEvent>& events) 
   const auto& sig = cfg_->classifier.signatures;
   if (cls_.raw_alpha < cfg_->alpha_clear) {
     // Healthy with hysteresis: noise around alpha_detect must not restart the shared-path clock.
-    last_healthy_t_ = t;
-    shared_reached_t_ = -1.0;
+    excited_since_healthy_ = 0.0;
+    shared_reached_after_ = -1.0;
+  } else {
+    excited_since_healthy_ += dt;
   }
   if (cls_.ambiguous) {
     // Two paths explain the point: one signature lies on the other's path (Table 1: pump wear sits at alpha
@@ -168,8 +175,11 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<PitchEvent>& events) 
     };
     const bool primary_shorter = reach(cls_.fault_class) < reach(cls_.alt_class);
     const double alpha_short = primary_shorter ? cls_.alpha : cls_.alt_alpha;
-    if (alpha_short >= cfg_->shared_alpha && shared_reached_t_ < 0.0) shared_reached_t_ = t;
-    const bool abrupt = shared_reached_t_ >= 0.0 && shared_reached_t_ - last_healthy_t_ <= cfg_->abrupt_time;
+    // "How fast" counts excited time only: while the estimate is held (fine pitch, no excitation) the
+    // blade is not seen to drift, so a fault that appears during a hold is as abrupt as the data can tell.
+    if (alpha_short >= cfg_->shared_alpha && shared_reached_after_ < 0.0)
+      shared_reached_after_ = excited_since_healthy_;
+    const bool abrupt = shared_reached_after_ >= 0.0 && shared_reached_after_ <= cfg_->abrupt_time;
     if (abrupt != primary_shorter) {
       std::swap(cls_.fault_class, cls_.alt_class);
       std::swap(cls_.alpha, cls_.alt_alpha);
@@ -257,7 +267,7 @@ void PitchDiagnoser::update(const FrameSample& s, std::vector<PitchEvent>& event
       out_.valid[i] = b.model().valid;
       out_.fault_class[i] = c.fault_class;
       out_.alpha[i] = c.alpha;
-      out_.excited[i] = b.identifier().excited();
+      out_.excited[i] = b.identifier().decisive();
       out_.ambiguous[i] = c.ambiguous;
       out_.alt_class[i] = c.alt_class;
       out_.alt_alpha[i] = c.alt_alpha;

@@ -20,12 +20,13 @@ struct PitchDiagConfig {
   double estimate_period = 0.1;  ///< s between estimates and classification decisions (10 Hz)
   double confirm_time = 3.0;     ///< s of excited data a fault class must hold before it is raised
   double clear_time = 10.0;      ///< s of excited data below alpha_clear before a raised fault clears
-  double alpha_settle = 0.1;     ///< alpha must stay within this of its value when confirmation began
+  double alpha_settle = 0.2;     ///< alpha must stay within this of its value when confirmation began
                                  ///< (a converging estimate passing through another class is not it)
   double alpha_clear = 0.15;     ///< alpha below which a raised fault counts as gone (< alpha_detect)
   double fault_alpha = 0.6;      ///< alpha from which the severity is "fault" (below: "warning")
-  double abrupt_time = 10.0;     ///< s; the pump-wear point reached this fast from healthy: pump_wear,
-                                 ///< slower (a gradual drift along the shared path): hydraulic_leakage
+  double abrupt_time = 10.0;     ///< s of excited data; the pump-wear point reached this fast from healthy:
+                                 ///< pump_wear, slower (a gradual drift along the shared path):
+                                 ///< hydraulic_leakage. Held (unexcited) time does not count
   double shared_alpha = 0.8;     ///< alpha on the shorter (pump-wear) path that counts as reaching its point
   double max_tracking_error = 5.0;  ///< deg; |reference - pitch| above it means the actuator is at its rate
                                     ///< limit (a safe stop's jump to feather): the linear model does not hold
@@ -93,8 +94,8 @@ class BladeDiagnoser {
   std::string raised_;  // "" when nothing is raised
   std::string raised_severity_;
   double raised_detected_ = 0.0;
-  double last_healthy_t_ = 0.0;     // last tick the blade looked healthy (for the shared-path rule)
-  double shared_reached_t_ = -1.0;  // first tick after that at the pump-wear point
+  double excited_since_healthy_ = 0.0;  // s of excited data since the blade last looked healthy
+  double shared_reached_after_ = -1.0;  // that excited time when it first reached the pump-wear point
 };
 
 /// One turbine (three blades): samples in, estimates and events out. No clock, no threads.

@@ -436,8 +436,15 @@ TEST(PitchDiagConfig, RejectsUnknownKeysAndOutOfRangeValues) {
                ConfigError);
   EXPECT_THROW(load_pitch_diag_config(yaml("signatures: [{name: none, omega_n: 11, zeta: 0.6, x: 1}]")),
                ConfigError);
-  // AND a valid override is taken
+  EXPECT_THROW(load_pitch_diag_config(yaml("evidence_min: -1")), ConfigError);
+  EXPECT_THROW(load_pitch_diag_config(yaml("evidence_min: 2e4")), ConfigError);
+  EXPECT_THROW(load_pitch_diag_config(yaml("bank_pe_gate: maybe")), ConfigError);
+  // AND a valid override is taken, and the bank's "none" test follows alpha_detect
   EXPECT_EQ(load_pitch_diag_config(yaml("method: paper_mifg\np: 16")).identifier.p, 16);
+  const auto g = load_pitch_diag_config(yaml("evidence_min: 9\nbank_pe_gate: true\nalpha_detect: 0.3"));
+  EXPECT_DOUBLE_EQ(g.identifier.evidence_min, 9.0);
+  EXPECT_TRUE(g.identifier.bank_pe_gate);
+  EXPECT_DOUBLE_EQ(g.identifier.decide_alpha, 0.3);
 }
 
 }  // namespace
