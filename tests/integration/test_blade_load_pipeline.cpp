@@ -93,39 +93,39 @@ const json* first_raised(const std::vector<json>& events, const std::string& com
 }
 
 TEST(BladeLoadReplay, AbruptGainRaisedOnBlade2AfterTheOnset) {
-  // GIVEN sensor_abrupt.yaml: blade 2's gain +10 % at 150 s, 16 m/s
+  // GIVEN sensor_abrupt.yaml: blade 2's gain +10 % at 250 s, 16 m/s
   const Replay r = replay("sensor_abrupt.yaml");
-  // THEN the contract's columns at 10 Hz (300 s: about 3000 rows)
+  // THEN the contract's columns at 10 Hz (400 s: about 4000 rows)
   EXPECT_EQ(r.header, kColumns);
-  EXPECT_NEAR(r.rows, 3000, 20);
-  // AND sensor_abrupt is raised on blade_moment_sensor_2 after 150 s and within 10 s, nothing else
+  EXPECT_NEAR(r.rows, 4000, 20);
+  // AND sensor_abrupt is raised on blade_moment_sensor_2 after 250 s and within 10 s, nothing else
   const json* e = first_raised(r.events, "blade_moment_sensor_2");
   ASSERT_NE(e, nullptr) << r.events.size();
   EXPECT_EQ((*e)["fault"], "sensor_abrupt");
   EXPECT_EQ((*e)["source"], "blade_load");
   EXPECT_EQ((*e)["turbine_id"], "WT01");
-  EXPECT_GT((*e)["t"].get<double>(), 150.0);
-  EXPECT_LT((*e)["t"].get<double>(), 160.0);
+  EXPECT_GT((*e)["t"].get<double>(), 250.0);
+  EXPECT_LT((*e)["t"].get<double>(), 260.0);
   for (const auto& x : r.events) EXPECT_EQ(x["component"], "blade_moment_sensor_2") << x.dump();
   // AND the state file was written in the private directory (at exit)
   EXPECT_TRUE(std::filesystem::exists(r.dir + "/state/WT01.yaml"));
 }
 
 TEST(BladeLoadReplay, DriftRaisedOnBlade1BeforeFivePercent) {
-  // GIVEN sensor_drift.yaml: 1 % of the mean load per minute on blade 1 from 200 s
+  // GIVEN sensor_drift.yaml: 1 % of the mean load per minute on blade 1 from 300 s
   const Replay r = replay("sensor_drift.yaml");
   EXPECT_EQ(r.header, kColumns);
   const json* e = first_raised(r.events, "blade_moment_sensor_1");
   ASSERT_NE(e, nullptr);
   // THEN sensor_drift, before 5 % (300 s after the onset)
   EXPECT_EQ((*e)["fault"], "sensor_drift");
-  EXPECT_GT((*e)["t"].get<double>(), 200.0);
-  EXPECT_LT((*e)["t"].get<double>(), 500.0);
+  EXPECT_GT((*e)["t"].get<double>(), 300.0);
+  EXPECT_LT((*e)["t"].get<double>(), 600.0);
   for (const auto& x : r.events) EXPECT_EQ(x["component"], "blade_moment_sensor_1") << x.dump();
 }
 
 TEST(BladeLoadReplay, IntermittentIsReclassifiedOnTheSecondEpisode) {
-  // GIVEN sensor_intermittent.yaml: blade 3 gain 1.3 for 6 s of every 20 s from 150 s
+  // GIVEN sensor_intermittent.yaml: blade 3 gain 1.3 for 6 s of every 20 s from 250 s
   const Replay r = replay("sensor_intermittent.yaml");
   EXPECT_EQ(r.header, kColumns);
   // THEN: sensor_abrupt raised, later cleared together with sensor_intermittent raised, and no event storm
@@ -138,9 +138,9 @@ TEST(BladeLoadReplay, IntermittentIsReclassifiedOnTheSecondEpisode) {
                                          "sensor_intermittent/raised"};
   EXPECT_EQ(seq, want);
   if (r.events.size() == 3) {
-    EXPECT_GT(r.events[0]["t"].get<double>(), 150.0);
-    EXPECT_GT(r.events[2]["t"].get<double>(), 170.0);  // the second episode starts at 170 s
-    EXPECT_LT(r.events[2]["t"].get<double>(), 200.0);
+    EXPECT_GT(r.events[0]["t"].get<double>(), 250.0);
+    EXPECT_GT(r.events[2]["t"].get<double>(), 270.0);  // the second episode starts at 270 s
+    EXPECT_LT(r.events[2]["t"].get<double>(), 300.0);
   }
 }
 
@@ -188,7 +188,7 @@ TEST(BladeLoadPipeline, AbruptFaultReachesTheFarmAndTheArbiterSwitchesIpcToTheLi
   ChildProcess configs({bin("windfdi-test-peer"), "configs", "--timeout", "120"}, env, "configs");
   ChildProcess diag({bin("windfdi-blade-load"), "--config", private_config(dir)}, env, "blade_load");
   std::this_thread::sleep_for(std::chrono::seconds(2));
-  // GIVEN the plant running sensor_abrupt.yaml (fault at 150 s) at 20x real time: about 8 s of wall time
+  // GIVEN the plant running sensor_abrupt.yaml (fault at 250 s) at 20x real time: about 13 s of wall time
   ChildProcess plant({bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/sensor_abrupt.yaml", "--rate", "20"},
                      env, "plant");
   // THEN the farm stores sensor_abrupt raised by blade_load on blade_moment_sensor_2

@@ -33,7 +33,7 @@ struct MonitorConfig {
   double significance = 1e-8;       ///< two-sided level of the outlier t-test per 10 Hz sample (0..0.1)
   double drift_significance = 1e-8; ///< two-sided level of the moving-window mean test per revolution
   int drift_window = 10;            ///< revolutions in the moving-window mean
-  double learn_time = 100.0;        ///< s of healthy start-up from which each residual's distribution is learned
+  double learn_time = 200.0;        ///< s of healthy start-up from which each residual's distribution is learned
                                     ///< (robust: median and MAD of one value per revolution)
   int min_learn_revolutions = 20;   ///< and at least this many revolutions
   double healthy_adapt_time = 3600; ///< s, time constant of the slow healthy-statistics update (0: frozen);

@@ -475,7 +475,12 @@ TEST(PlantHealthy, AHealthyHourRaisesNothing) {
       const auto r = run_plant(wind, wind < 10 ? 0.12 : 0.1, 0.2, 0.05, 3600, {}, seed + static_cast<uint64_t>(wind),
                                config(), LoadTable::load_csv(kTable));
       int raised = 0;
-      for (const auto& e : r.events) raised += e.raised && e.component.rfind("blade_moment_sensor", 0) == 0;
+      for (const auto& e : r.events)
+        if (e.raised && e.component.rfind("blade_moment_sensor", 0) == 0) {
+          ++raised;
+          std::printf("[measured]   raised at %.1f s: %s %s (%s)\n", e.t, e.component.c_str(), e.fault.c_str(),
+                      e.detail.c_str());
+        }
       std::printf("[measured] healthy hour %g m/s seed %llu: %d raised; gated revolutions %llu; max |t|/crit "
                   "model %.2f mean %.2f\n",
                   wind, static_cast<unsigned long long>(seed), raised,
@@ -486,17 +491,25 @@ TEST(PlantHealthy, AHealthyHourRaisesNothing) {
 }
 
 TEST(SteepSurfaceGate, ClosesOnlyWhereTheLoadTableIsSteepInPitch) {
-  // GIVEN the shipped table: the plant's Heier Cp is singular at beta = -1 deg (beta^3 + 1 = 0)
-  BladeLoadMonitor m(config(), LoadTable::load_csv(kTable));
-  // THEN around -1 deg the spread over +/- 0.25 deg is far above the gate (0.25), at the operating points of
-  // the partial-load region (pitch 0) and of the full-load region (5 and 10 deg) it is below it
+  // GIVEN a table with a step in pitch at -1 deg (k_M 1 below, 0.2 above), as the plant had when its Heier Cp
+  // was singular there
+  std::vector<double> k;
+  for (int i = 0; i < 81; ++i)
+    for (int j = 0; j < 101; ++j) k.push_back(-5.0 + 0.5 * j < -1.0 ? 1.0 : 0.2);
+  BladeLoadMonitor steep(config(), LoadTable(0.0, 0.25, 81, -5.0, 0.5, 101, k));
+  // THEN the gate's sensitivity is far above 0.25 at the step and zero away from it
   for (double lambda : {6.5, 7.5, 9.0}) {
-    EXPECT_GT(m.model_sensitivity(lambda, -1.0), 0.5) << lambda;
-    EXPECT_GT(m.model_sensitivity(lambda, -0.7), 0.25) << lambda;
-    EXPECT_LT(m.model_sensitivity(lambda, 0.0), 0.25) << lambda;
-    EXPECT_LT(m.model_sensitivity(lambda, 5.0), 0.25) << lambda;
+    EXPECT_GT(steep.model_sensitivity(lambda, -1.0), 0.5) << lambda;
+    EXPECT_LT(steep.model_sensitivity(lambda, 0.0), 0.25) << lambda;
+    EXPECT_LT(steep.model_sensitivity(lambda, 5.0), 0.25) << lambda;
   }
-  EXPECT_LT(m.model_sensitivity(5.5, 10.0), 0.25);
+  // AND the shipped table (smooth since the plant's Cp is) never closes the gate where the blades work: fine
+  // pitch with IPC (-2..2 deg) at partial load, and the full-load band at its tip-speed ratios
+  BladeLoadMonitor shipped(config(), LoadTable::load_csv(kTable));
+  for (double lambda : {6.5, 7.5, 8.1, 9.0})
+    for (double pitch = -2.0; pitch <= 2.0; pitch += 0.1)
+      EXPECT_LT(shipped.model_sensitivity(lambda, pitch), 0.25) << lambda << " " << pitch;
+  for (double pitch = 2.0; pitch <= 10.0; pitch += 0.5) EXPECT_LT(shipped.model_sensitivity(5.5, pitch), 0.25) << pitch;
 }
 
 }  // namespace
