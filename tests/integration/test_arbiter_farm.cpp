@@ -10,33 +10,12 @@
 #include <thread>
 
 #include "process.hpp"
+#include "test_util.hpp"
 
 using namespace windfdi::test;
 using nlohmann::json;
 
 namespace {
-
-std::vector<json> json_lines(const std::string& text) {
-  std::vector<json> out;
-  std::stringstream ss(text);
-  for (std::string line; std::getline(ss, line);) {
-    if (line.empty() || line[0] != '{') continue;
-    try {
-      out.push_back(json::parse(line));
-    } catch (...) {
-    }
-  }
-  return out;
-}
-
-bool wait_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout) {
-  const auto end = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < end) {
-    if (pred()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  return pred();
-}
 
 bool ready(ChildProcess& p) {
   return wait_until([&] { return p.stdout_text().find("\"ready\"") != std::string::npos || !p.running(); },
@@ -50,12 +29,6 @@ std::vector<json> configs(ChildProcess& p, const std::string& arbiter = "") {
   for (const auto& j : json_lines(p.stdout_text()))
     if (j.contains("revision") && (arbiter.empty() || j["arbiter_id"] == arbiter)) out.push_back(j);
   return out;
-}
-
-std::vector<json> farm_history(const std::string& db, const std::map<std::string, std::string>& env) {
-  ChildProcess h({bin("windfdi-farm"), "--db", db, "history", "--json"}, env, "history");
-  EXPECT_EQ(h.wait(std::chrono::seconds(20)), 0) << h.stderr_text();
-  return json_lines(h.stdout_text());
 }
 
 class ArbiterFarm : public ::testing::Test {

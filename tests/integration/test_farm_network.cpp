@@ -14,20 +14,12 @@
 #include <thread>
 
 #include "process.hpp"
+#include "test_util.hpp"
 
 using namespace windfdi::test;
 using nlohmann::json;
 
 namespace {
-
-bool wait_until(const std::function<bool()>& pred, std::chrono::seconds timeout) {
-  const auto end = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < end) {
-    if (pred()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  }
-  return pred();
-}
 
 const char* const kIp = "/bin/ip";  // ChildProcess execs without a PATH search
 
@@ -107,15 +99,7 @@ TEST_F(FarmNetwork, TwoTurbineHostsAndAFarmHostOverUdpWithADiscoveryServer) {
   auto& plant_b =
       start("b", {bin("windfdi-plant"), "--scenario", dir + "/wt02.yaml", "--rate", "10"}, "plant_b");
   // THEN the farm host stores both turbines' faults, raised by their own hosts' pitch_diag
-  const auto history = [&] {
-    ChildProcess h({bin("windfdi-farm"), "--db", db, "history", "--json"}, dds_env(domain), "history");
-    std::vector<json> rows;
-    if (h.wait(std::chrono::seconds(20)) != 0) return rows;
-    std::stringstream ss(h.stdout_text());
-    for (std::string line; std::getline(ss, line);)
-      if (!line.empty() && line[0] == '{') rows.push_back(json::parse(line));
-    return rows;
-  };
+  const auto history = [&] { return farm_history(db, dds_env(domain)); };
   const auto has = [&](const std::vector<json>& rows, const char* turbine, const char* component,
                        const char* fault) {
     for (const auto& r : rows)

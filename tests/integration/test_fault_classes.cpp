@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "process.hpp"
+#include "test_util.hpp"
 
 using namespace windfdi::test;
 using nlohmann::json;
@@ -21,23 +22,6 @@ using nlohmann::json;
 namespace {
 
 const std::string kDeploy = WINDFDI_SOURCE_DEPLOY_DIR;
-
-bool wait_until(const std::function<bool()>& pred, std::chrono::seconds timeout) {
-  const auto end = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < end) {
-    if (pred()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  }
-  return pred();
-}
-
-std::vector<json> json_lines(const std::string& text) {
-  std::vector<json> out;
-  std::stringstream ss(text);
-  for (std::string line; std::getline(ss, line);)
-    if (!line.empty() && line[0] == '{') out.push_back(json::parse(line));
-  return out;
-}
 
 /// A farm on a private domain: farm monitor, arbiter, a peer printing every configuration, and services.
 struct Farm {
@@ -70,9 +54,7 @@ struct Farm {
     return start({bin(exe), "--config", kDeploy + "/config/" + name + ".yaml"}, exe);
   }
   std::vector<json> history() const {
-    ChildProcess h({bin("windfdi-farm"), "--db", db, "history", "--json"}, env, "history");
-    if (h.wait(std::chrono::seconds(20)) != 0) return {};
-    return json_lines(h.stdout_text());
+    return farm_history(db, env);
   }
   std::vector<json> configurations() const {
     std::vector<json> out;

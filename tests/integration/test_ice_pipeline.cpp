@@ -9,19 +9,11 @@
 #include <thread>
 
 #include "process.hpp"
+#include "test_util.hpp"
 
 using namespace windfdi::test;
 
 namespace {
-
-bool wait_until(const std::function<bool()>& pred, std::chrono::seconds timeout) {
-  const auto end = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < end) {
-    if (pred()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
-  return pred();
-}
 
 TEST(IcePipeline, IcedRotorReachesTheFarmAndTheArbiterAdaptsTheController) {
   const int domain = private_domain(4);
@@ -41,17 +33,14 @@ TEST(IcePipeline, IcedRotorReachesTheFarmAndTheArbiterAdaptsTheController) {
                    farm.stderr_text().find("ice adapted") != std::string::npos; },
       std::chrono::seconds(60));
   // AND the farm stored ice_accretion on rotor from ice_detect
-  ChildProcess history({bin("windfdi-farm"), "--db", dir + "/farm.sqlite", "history", "--json"}, env, "history");
-  ASSERT_EQ(history.wait(std::chrono::seconds(20)), 0);
+  const auto rows = farm_history(dir + "/farm.sqlite", env);
+  ASSERT_FALSE(rows.empty()) << farm.stderr_text();
   bool stored = false;
-  std::stringstream ss(history.stdout_text());
-  for (std::string line; std::getline(ss, line);) {
-    const auto j = nlohmann::json::parse(line);
+  for (const auto& j : rows)
     if (j["kind"] == "fault" && j["data"]["component"] == "rotor" && j["data"]["fault"] == "ice_accretion" &&
         j["data"]["source"] == "ice_detect" && j["data"]["state"] == "raised")
       stored = true;
-  }
-  EXPECT_TRUE(stored) << history.stdout_text() << ice.stderr_text();
+  EXPECT_TRUE(stored) << rows.size() << " events; " << ice.stderr_text();
   EXPECT_TRUE(adapted) << farm.stderr_text() << arbiter.stderr_text();
   plant.stop(SIGTERM);
   remove_stale_shm(domain);

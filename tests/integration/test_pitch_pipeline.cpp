@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "process.hpp"
+#include "test_util.hpp"
 
 using namespace windfdi::test;
 using nlohmann::json;
@@ -14,19 +15,6 @@ using nlohmann::json;
 namespace {
 
 const std::string kDeploy = WINDFDI_SOURCE_DEPLOY_DIR;
-
-std::vector<json> json_lines(const std::string& text) {
-  std::vector<json> out;
-  std::stringstream ss(text);
-  for (std::string line; std::getline(ss, line);)
-    if (!line.empty() && line[0] == '{') out.push_back(json::parse(line));
-  return out;
-}
-
-std::string read_file(const std::string& path) {
-  std::ifstream f(path);
-  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-}
 
 TEST(PitchReplay, PlantRecordingGivesTheContractFilesAndTheLeak) {
   // GIVEN a plant recording (gzip) of hydraulic_leakage.yaml: blade 3's actuator leaks from 150 s

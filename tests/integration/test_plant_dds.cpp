@@ -9,21 +9,13 @@
 #include <thread>
 
 #include "process.hpp"
+#include "test_util.hpp"
 
 using namespace windfdi::test;
 
 namespace {
 
 const std::string kScenarios = std::string(WINDFDI_SOURCE_DEPLOY_DIR) + "/scenarios/";
-
-bool wait_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout) {
-  const auto end = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < end) {
-    if (pred()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  return pred();
-}
 
 bool contains(ChildProcess& p, const std::string& s) { return p.stderr_text().find(s) != std::string::npos; }
 

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "process.hpp"
+#include "test_util.hpp"
 
 using namespace windfdi::test;
 using nlohmann::json;
@@ -22,23 +23,6 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::string kDeploy = WINDFDI_SOURCE_DEPLOY_DIR;
-
-bool wait_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout) {
-  const auto end = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < end) {
-    if (pred()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  return pred();
-}
-
-std::vector<json> json_lines(const std::string& text) {
-  std::vector<json> out;
-  std::stringstream ss(text);
-  for (std::string line; std::getline(ss, line);)
-    if (!line.empty() && line[0] == '{') out.push_back(json::parse(line));
-  return out;
-}
 
 // The last JSON line of a peer's stdout (its summary).
 json summary(const ChildProcess& p) {
@@ -242,9 +226,7 @@ TEST_F(Security, SecuredPipelineDetectsAHydraulicLeakEndToEnd) {
   const auto start = std::chrono::steady_clock::now();
   // THEN the farm stores pitch_diag's hydraulic_leakage on pitch_actuator_3 ...
   const auto stored = [&] {
-    ChildProcess h({bin("windfdi-farm"), "--db", db, "history", "--json"}, env, "history");
-    if (h.wait(std::chrono::seconds(20)) != 0) return false;
-    for (const auto& j : json_lines(h.stdout_text()))
+    for (const auto& j : farm_history(db, env))
       if (j["kind"] == "fault" && j["data"]["component"] == "pitch_actuator_3" &&
           j["data"]["fault"] == "hydraulic_leakage" && j["data"]["source"] == "pitch_diag" &&
           j["data"]["state"] == "raised")

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "process.hpp"
+#include "test_util.hpp"
 
 using namespace windfdi::test;
 using nlohmann::json;
@@ -18,28 +19,6 @@ using nlohmann::json;
 namespace {
 
 const std::string kDeploy = WINDFDI_SOURCE_DEPLOY_DIR;
-
-bool wait_until(const std::function<bool()>& pred, std::chrono::seconds timeout) {
-  const auto end = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < end) {
-    if (pred()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
-  return pred();
-}
-
-std::vector<json> json_lines(const std::string& text) {
-  std::vector<json> out;
-  std::stringstream ss(text);
-  for (std::string line; std::getline(ss, line);)
-    if (!line.empty() && line[0] == '{') out.push_back(json::parse(line));
-  return out;
-}
-
-std::string read_file(const std::string& path) {
-  std::ifstream f(path);
-  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-}
 
 struct ReplayCase {
   const char* scenario;
@@ -115,9 +94,7 @@ TEST(SensorBiasPipeline, GeneratorSpeedBiasReachesTheFarmAndTheControllerUsesThe
       env, "plant");
   // THEN the farm stores sensor_bias raised by sensor_bias on the generator speed sensor
   const auto stored = [&](const std::string& component) {
-    ChildProcess h({bin("windfdi-farm"), "--db", db, "history", "--json"}, env, "history");
-    if (h.wait(std::chrono::seconds(20)) != 0) return false;
-    for (const auto& j : json_lines(h.stdout_text()))
+    for (const auto& j : farm_history(db, env))
       if (j["kind"] == "fault" && j["data"]["component"] == component && j["data"]["fault"] == "sensor_bias" &&
           j["data"]["source"] == "sensor_bias" && j["data"]["state"] == "raised")
         return true;
