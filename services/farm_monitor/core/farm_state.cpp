@@ -48,8 +48,14 @@ std::string FarmState::render() const {
                 "SERVICES", "ACTIVE FAULTS");
   out << line;
   for (const auto& [id, t] : turbines_) {
-    std::string services;
-    for (const auto& [name, state] : t.services) services += (services.empty() ? "" : " ") + name + ":" + state;
+    // Six services do not fit a column by name: count the healthy ones, name the others.
+    int ok = 0;
+    std::string others;
+    for (const auto& [name, state] : t.services) {
+      if (state == "ok") ++ok;
+      else others += " " + name + ":" + state;
+    }
+    const std::string services = std::to_string(ok) + " ok" + others;
     const auto faults = active_faults(id);
     std::string first = faults.empty() ? "-" : faults.front();
     std::snprintf(line, sizeof line, "%-10s %-10s %-13s %-8s %-36s %s\n", id.c_str(), t.mode.c_str(),

@@ -55,11 +55,16 @@ std::vector<ReportRow> match(const std::vector<InjectedFault>& injected, const s
       if (d["component"] != inj.component || d["state"] != "raised") continue;
       const double td = d["t_detected"].is_number() ? d["t_detected"].get<double>() : d["t"].get<double>();
       if (td < inj.start) continue;
+      const std::string fault = d["fault"].get<std::string>();
+      if (r.detected) {
+        const std::string& last = r.reclassified.empty() ? r.detected_fault : r.reclassified.back();
+        if (fault != last) r.reclassified.push_back(fault);
+        continue;
+      }
       r.detected = true;
-      r.detected_fault = d["fault"].get<std::string>();
+      r.detected_fault = fault;
       r.delay = td - inj.start;
       received = h.received_at;
-      break;
     }
     if (r.detected)
       for (const auto& h : history)
@@ -77,10 +82,10 @@ std::vector<ReportRow> match(const std::vector<InjectedFault>& injected, const s
 std::string render_report(const std::vector<ReportRow>& rows, const std::vector<HistoryRow>& history) {
   std::ostringstream out;
   char line[512];
-  std::snprintf(line, sizeof line, "%-6s %-36s %7s  %-42s %-22s %-8s %s\n", "TURB", "INJECTED", "START",
-                "EXPECTED", "DETECTED", "DELAY", "ARBITER REACTION");
+  std::snprintf(line, sizeof line, "%-6s %-36s %7s  %-42s %-40s %-8s %s\n", "TURB", "INJECTED", "START",
+                "EXPECTED", "DETECTED (then)", "DELAY", "ARBITER REACTION");
   out << line;
-  int expected = 0, found = 0;
+  int expected = 0, found = 0, found_later = 0;
   for (const auto& r : rows) {
     const auto& i = r.injected;
     const std::string exp = i.component.empty() ? "(not covered)" : i.component + " " + i.fault;
@@ -92,10 +97,12 @@ std::string render_report(const std::vector<ReportRow>& rows, const std::vector<
       std::snprintf(d, sizeof d, "%.1f s", r.delay);
       delay = d;
       found += r.detected_fault == i.fault;
+      for (const auto& c : r.reclassified) det += " > " + c;
+      found_later += r.detected_fault != i.fault && !r.reclassified.empty() && r.reclassified.back() == i.fault;
     } else if (!i.component.empty()) {
       det = "MISSED";
     }
-    std::snprintf(line, sizeof line, "%-6s %-36s %6.0fs  %-42s %-22s %-8s %s\n", i.turbine.c_str(),
+    std::snprintf(line, sizeof line, "%-6s %-36s %6.0fs  %-42s %-40s %-8s %s\n", i.turbine.c_str(),
                   (i.target + ":" + i.type).c_str(), i.start, exp.c_str(), det.c_str(), delay.c_str(),
                   r.reaction.empty() ? "-" : r.reaction.c_str());
     out << line;
@@ -112,8 +119,9 @@ std::string render_report(const std::vector<ReportRow>& rows, const std::vector<
           << h.data["fault"].get<std::string>() << " from " << h.data["source"].get<std::string>() << "\n";
     }
   }
-  out << found << " of " << expected << " covered faults detected with the right class; " << unexpected
-      << " unexpected fault report(s)\n";
+  out << found << " of " << expected << " covered faults detected with the right class first";
+  if (found_later > 0) out << ", " << found_later << " more after a re-classification";
+  out << "; " << unexpected << " unexpected fault report(s)\n";
   return out.str();
 }
 

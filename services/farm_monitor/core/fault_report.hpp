@@ -18,6 +18,7 @@ struct ReportRow {
   InjectedFault injected;
   bool detected = false;
   std::string detected_fault;  ///< the class reported on the component first after the start
+  std::vector<std::string> reclassified;  ///< classes raised on it later, in order (a service changing its mind)
   double delay = 0.0;          ///< s of measurement time from the start to t_detected
   std::string reaction;        ///< the arbiter's first configuration change after detection
 };

@@ -98,6 +98,10 @@ TEST(FarmState, TableShowsModesFaultsAndLostServices) {
   EXPECT_NE(table.find("safe_stop"), std::string::npos) << table;
   EXPECT_NE(table.find("lidar_model"), std::string::npos) << table;
   EXPECT_NE(table.find("ice_detect:lost"), std::string::npos) << table;
+  // AND six healthy services fit the column as a count
+  for (const char* s : {"arbiter", "blade_load", "ice_detect", "pitch_diag", "plant", "sensor_bias"})
+    st.on_service("WT03", s, "ok");
+  EXPECT_NE(st.render().find("6 ok"), std::string::npos) << st.render();
 }
 
 }  // namespace
@@ -131,6 +135,32 @@ TEST(FaultReportTable, MatchesInjectedFaultsWithDetectionsAndReactions) {
   const std::string table = render_report(rows, history);
   EXPECT_NE(table.find("MISSED"), std::string::npos) << table;
   EXPECT_NE(table.find("1 of 2 covered faults"), std::string::npos) << table;
+}
+
+TEST(FaultReportTable, ShowsAReclassificationAndCountsItApart) {
+  using namespace windfdi::farm;
+  // GIVEN a leak at 120 s first reported as pump wear (122 s), then as hydraulic leakage (125 s)
+  std::vector<InjectedFault> injected = {{"WT02", "pitch_actuator_3", "hydraulic_leakage", 120.0, "", ""}};
+  for (auto& i : injected) std::tie(i.component, i.fault) = expected_detection(i.target, i.type);
+  FaultEvent first = fault("WT02", "pitch_actuator_3", "pump_wear", 122.0);
+  first.t_detected = 122.0;
+  FaultEvent second = fault("WT02", "pitch_actuator_3", "hydraulic_leakage", 125.0);
+  second.t_detected = 125.0;
+  const std::vector<HistoryRow> history = {{1000.0, "fault", "WT02", to_json(first)},
+                                           {1003.0, "fault", "WT02", to_json(second)}};
+  const auto rows = match(injected, history);
+  // THEN the row shows both classes in order, the delay is the first report's, and the summary does not count
+  // it as right first but as right after a re-classification
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].detected_fault, "pump_wear");
+  ASSERT_EQ(rows[0].reclassified.size(), 1u);
+  EXPECT_EQ(rows[0].reclassified[0], "hydraulic_leakage");
+  EXPECT_DOUBLE_EQ(rows[0].delay, 2.0);
+  const std::string table = render_report(rows, history);
+  EXPECT_NE(table.find("pump_wear (!) > hydraulic_leakage"), std::string::npos) << table;
+  EXPECT_NE(table.find("0 of 1 covered faults detected with the right class first, 1 more after a re-classification"),
+            std::string::npos)
+      << table;
 }
 
 }  // namespace
