@@ -29,6 +29,7 @@
 #include "TurbineFramePubSubTypes.h"
 #include "app.hpp"
 #include "dds/participant.hpp"
+#include "ping_pong.hpp"
 
 using namespace eprosima::fastdds::dds;
 using namespace windfdi;
@@ -39,54 +40,7 @@ double now_s() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-// A writer on `out` and a reader on `in`, both with the sensor_stream profile; `on_sample` runs in the
-// reader's listener thread for every valid sample.
-class Endpoints : public DataReaderListener {
- public:
-  Endpoints(bus::Participant& p, const std::string& out, const std::string& in,
-            std::function<void(windfdi::TurbineFrame&)> on_sample)
-      : participant_(p), on_sample_(std::move(on_sample)) {
-    TypeSupport type(new windfdi::TurbineFramePubSubType());
-    Topic* t_out = p.topic(out, type);
-    Topic* t_in = p.topic(in, type);
-    DataWriterQos wq;
-    DataReaderQos rq;
-    if (p.publisher()->get_datawriter_qos_from_profile("sensor_stream", wq) != ReturnCode_t::RETCODE_OK ||
-        p.subscriber()->get_datareader_qos_from_profile("sensor_stream", rq) != ReturnCode_t::RETCODE_OK)
-      throw std::runtime_error("no sensor_stream profile");
-    writer_ = p.publisher()->create_datawriter(t_out, wq);
-    reader_ = p.subscriber()->create_datareader(t_in, rq, this, StatusMask::data_available());
-    if (!writer_ || !reader_) throw std::runtime_error("cannot create the bench endpoints (permissions?)");
-  }
-  ~Endpoints() override {
-    reader_->set_listener(nullptr);
-    p_delete();
-  }
-  bool matched() {
-    PublicationMatchedStatus ps;
-    SubscriptionMatchedStatus ss;
-    writer_->get_publication_matched_status(ps);
-    reader_->get_subscription_matched_status(ss);
-    return ps.current_count > 0 && ss.current_count > 0;
-  }
-  bool write(windfdi::TurbineFrame& f) { return writer_->write(&f); }
-
- private:
-  void p_delete() {
-    participant_.subscriber()->delete_datareader(reader_);
-    participant_.publisher()->delete_datawriter(writer_);
-  }
-  void on_data_available(DataReader* r) override {
-    windfdi::TurbineFrame f;
-    SampleInfo info;
-    while (r->take_next_sample(&f, &info) == ReturnCode_t::RETCODE_OK)
-      if (info.valid_data) on_sample_(f);
-  }
-  bus::Participant& participant_;
-  std::function<void(windfdi::TurbineFrame&)> on_sample_;
-  DataWriter* writer_ = nullptr;
-  DataReader* reader_ = nullptr;
-};
+using Endpoints = bench::PingEndpoints;
 
 bus::ParticipantOptions options(int domain, const std::string& security, const std::string& name) {
   bus::ParticipantOptions o;
@@ -99,15 +53,7 @@ bus::ParticipantOptions options(int domain, const std::string& security, const s
 }
 
 int run_echo(int domain, const std::string& security) {
-  install_signal_handlers();
-  bus::Participant p(options(domain, security, "bench-echo"));
-  std::atomic<Endpoints*> self{nullptr};
-  Endpoints e(p, "bench/pong", "bench/ping", [&](windfdi::TurbineFrame& f) {
-    if (Endpoints* s = self.load()) s->write(f);
-  });
-  self = &e;
-  while (!shutdown_requested()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  return 0;
+  return bench::run_echo(options(domain, security, "bench-echo"));
 }
 
 struct Result {
@@ -118,14 +64,7 @@ struct Result {
 Result run_ping(const std::string& exe, int domain, const std::string& security, int samples, double rate) {
   std::vector<std::string> args = {exe, "--echo", "--domain", std::to_string(domain)};
   if (!security.empty()) args.insert(args.end(), {"--security", security});
-  const pid_t child = fork();
-  if (child == 0) {
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(exe.c_str(), argv.data());
-    _exit(127);
-  }
+  const pid_t child = bench::spawn(args);
   Result r;
   {
     bus::Participant p(options(domain, security, "bench-ping"));

@@ -56,6 +56,7 @@
 #include "app.hpp"
 #include "dds/endpoints.hpp"
 #include "dds/participant.hpp"
+#include "ping_pong.hpp"
 
 using namespace eprosima::fastdds::dds;
 using namespace windfdi;
@@ -83,63 +84,10 @@ bus::ParticipantOptions options(int domain, const std::string& name) {
 
 // ---------------------------------------------------------------- raw Fast DDS ping/pong (baseline)
 
-class PingEndpoints : public DataReaderListener {
- public:
-  PingEndpoints(bus::Participant& p, const std::string& out, const std::string& in,
-                std::function<void(TurbineFrame&)> on_sample)
-      : participant_(p), on_sample_(std::move(on_sample)) {
-    TypeSupport type(new TurbineFramePubSubType());
-    Topic* t_out = p.topic(out, type);
-    Topic* t_in = p.topic(in, type);
-    DataWriterQos wq;
-    DataReaderQos rq;
-    if (p.publisher()->get_datawriter_qos_from_profile("sensor_stream", wq) != ReturnCode_t::RETCODE_OK ||
-        p.subscriber()->get_datareader_qos_from_profile("sensor_stream", rq) != ReturnCode_t::RETCODE_OK)
-      throw std::runtime_error("no sensor_stream profile");
-    writer_ = p.publisher()->create_datawriter(t_out, wq);
-    reader_ = p.subscriber()->create_datareader(t_in, rq, this, StatusMask::data_available());
-    if (!writer_ || !reader_) throw std::runtime_error("cannot create the ping endpoints");
-  }
-  ~PingEndpoints() override {
-    reader_->set_listener(nullptr);
-    participant_.subscriber()->delete_datareader(reader_);
-    participant_.publisher()->delete_datawriter(writer_);
-  }
-  bool matched() {
-    PublicationMatchedStatus ps;
-    SubscriptionMatchedStatus ss;
-    writer_->get_publication_matched_status(ps);
-    reader_->get_subscription_matched_status(ss);
-    return ps.current_count > 0 && ss.current_count > 0;
-  }
-  bool write(TurbineFrame& f) { return writer_->write(&f); }
+using bench::PingEndpoints;
 
- private:
-  void on_data_available(DataReader* r) override {
-    TurbineFrame f;
-    SampleInfo info;
-    while (r->take_next_sample(&f, &info) == ReturnCode_t::RETCODE_OK)
-      if (info.valid_data) on_sample_(f);
-  }
-  bus::Participant& participant_;
-  std::function<void(TurbineFrame&)> on_sample_;
-  DataWriter* writer_ = nullptr;
-  DataReader* reader_ = nullptr;
-};
+int run_echo(int domain) { return bench::run_echo(options(domain, "sysbench-echo")); }
 
-int run_echo(int domain) {
-  install_signal_handlers();
-  bus::Participant p(options(domain, "sysbench-echo"));
-  std::atomic<PingEndpoints*> self{nullptr};
-  PingEndpoints e(p, "bench/pong", "bench/ping", [&](TurbineFrame& f) {
-    if (PingEndpoints* s = self.load()) s->write(f);
-  });
-  self = &e;
-  while (!shutdown_requested()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  return 0;
-}
-
-// One-way latencies (round trip / 2, s) of `samples` pings at `rate` Hz; stops early when `stop` is set.
 class Pinger {
  public:
   explicit Pinger(bus::Participant& p)
@@ -201,16 +149,7 @@ pid_t start_echo(int domain) {
   const ssize_t n = readlink("/proc/self/exe", path, sizeof path - 1);
   if (n <= 0) throw std::runtime_error("cannot find my own executable");
   const std::string exe(path, static_cast<std::size_t>(n));
-  std::vector<std::string> args = {exe, "--mode", "echo", "--domain", std::to_string(domain)};
-  const pid_t child = fork();
-  if (child == 0) {
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(exe.c_str(), argv.data());
-    _exit(127);
-  }
-  return child;
+  return bench::spawn({exe, "--mode", "echo", "--domain", std::to_string(domain)});
 }
 
 void print_dist(const char* what, const std::vector<double>& v, std::size_t expected = 0) {
