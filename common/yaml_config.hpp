@@ -1,6 +1,8 @@
 // YAML configuration helpers: typed keys with defaults and range checks, errors that name file, line and key.
 #pragma once
 
+#include <filesystem>
+
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
@@ -118,6 +120,14 @@ class YamlSection {
     const double v = require<double>(key);
     check_range(key, v, min, max);
     return v;
+  }
+
+  /// A file name, or `fallback` when the key is absent; a relative name is taken beside this YAML file (so a
+  /// configuration and the files it names move together, e.g. to /etc/windfdi).
+  std::string get_path(const std::string& key, const std::string& fallback) const {
+    if (!has(key)) return fallback;
+    const std::filesystem::path f = as<std::string>(key);
+    return f.is_relative() ? (std::filesystem::path(file_).parent_path() / f).string() : f.string();
   }
 
   /// One of a fixed set of strings.

@@ -84,9 +84,7 @@ class BladeLoadDiagnoser : public TurbineDiagnoser {
 };
 
 std::string beside(const YamlSection* cfg, const std::string& key, const std::string& fallback) {
-  if (!cfg || !cfg->has(key)) return fallback;
-  const std::filesystem::path f = cfg->get<std::string>(key, fallback);
-  return f.is_relative() ? (std::filesystem::path(cfg->file()).parent_path() / f).string() : f.string();
+  return cfg ? cfg->get_path(key, fallback) : fallback;
 }
 
 }  // namespace

@@ -66,13 +66,8 @@ ServiceSpec ice_detect_spec() {
   spec.description = "Ice accretion and shedding from the estimated rotor inertia (Stotsky & Egardt 2013)";
   spec.estimate_columns = {"inertia", "ice_mass", "excited"};
   spec.configure = [state](const YamlSection* cfg) {
-    std::string turbine_file = std::string(WINDFDI_SOURCE_DEPLOY_DIR) + "/turbine/benchmark_4.8MW.yaml";
-    // A relative turbine_file is taken beside the configuration file.
-    if (cfg && cfg->has("turbine_file")) {
-      const std::filesystem::path f = cfg->get<std::string>("turbine_file", turbine_file);
-      turbine_file = f.is_relative() ? (std::filesystem::path(cfg->file()).parent_path() / f).string() : f.string();
-    }
-    state->turbine = load_turbine_params_file(turbine_file);
+    const std::string turbine_file = std::string(WINDFDI_SOURCE_DEPLOY_DIR) + "/turbine/benchmark_4.8MW.yaml";
+    state->turbine = load_turbine_params_file(cfg ? cfg->get_path("turbine_file", turbine_file) : turbine_file);
     state->config = cfg ? load_detector_config(*cfg, state->turbine)
                         : load_detector_config(YamlSection(YAML::Node(YAML::NodeType::Map), "(defaults)"), state->turbine);
     state->aero = std::make_unique<AeroModel>(state->turbine);

@@ -1,6 +1,7 @@
 // Unit tests of the YAML configuration helpers: defaults, ranges, unknown keys, errors naming file and key.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 
 #include "process.hpp"
@@ -23,6 +24,17 @@ TEST(YamlConfig, DefaultsApplyWhenKeysAreAbsent) {
   // THEN the set key is read and the absent one falls back to its default
   EXPECT_DOUBLE_EQ(cfg.get_number("forgetting_factor", 0.97, 0.0, 1.0), 0.95);
   EXPECT_EQ(cfg.get<int>("innovation_length", 8), 8);
+}
+
+TEST(YamlConfig, RelativePathsAreTakenBesideTheFile) {
+  // GIVEN a file naming one relative and one absolute file
+  const std::string path = write_yaml("p.yaml", "turbine_file: ../turbine/t.yaml\nstate_file: /var/lib/x.yaml\n");
+  const auto cfg = YamlSection::load_file(path);
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  // THEN the relative one is beside the file, the absolute one as written, an absent one the fallback
+  EXPECT_EQ(cfg.get_path("turbine_file", "x"), dir + "/../turbine/t.yaml");
+  EXPECT_EQ(cfg.get_path("state_file", "x"), "/var/lib/x.yaml");
+  EXPECT_EQ(cfg.get_path("table_file", "/etc/windfdi/t.csv"), "/etc/windfdi/t.csv");
 }
 
 TEST(YamlConfig, UnknownKeyNamesFileLineKeyAndChoices) {
