@@ -45,6 +45,43 @@ std::vector<PitchEvent> diagnose(const PitchDiagConfig& cfg, const std::vector<F
   return all;
 }
 
+// When the data first carry the fault: the healthy and the faulty actuator (Table 1 signatures), both driven
+// by the recorded reference from rest at the onset, give outputs whose summed squared difference reaches 25
+// noise variances (0.2 deg): the log-likelihood ratio an oracle knowing both models would have, the same 5
+// sigma the bank's evidence_min asks. While the reference stands still (fine pitch below rated) no method can
+// see the fault, so the 10 s target is also measured from here. The time (s), NaN when not within the recording.
+double first_information(const std::vector<FrameSample>& rec, int blade, double t_on, const Signature& healthy,
+                         const Signature& fault) {
+  struct Actuator {
+    double x = 0, v = 0;
+    void step(double u, double dt, double wn, double zeta) {
+      for (int k = 0; k < 10; ++k) {  // semi-implicit Euler at dt / 10: exact enough for a 3 sigma test
+        v += (wn * wn * (u - x) - 2.0 * zeta * wn * v) * dt / 10.0;
+        x += v * dt / 10.0;
+      }
+    }
+  };
+  Actuator h, f;
+  bool started = false;
+  double evidence = 0.0;
+  for (std::size_t k = 1; k < rec.size(); ++k) {
+    const auto& s = rec[k];
+    if (s.t < t_on) continue;
+    const double u = s.pitch_ref[static_cast<std::size_t>(blade)];
+    if (!started) {
+      h.x = f.x = u;
+      started = true;
+      continue;
+    }
+    const double dt = s.t - rec[k - 1].t;
+    h.step(u, dt, healthy.omega_n, healthy.zeta);
+    f.step(u, dt, fault.omega_n, fault.zeta);
+    evidence += std::pow((h.x - f.x) / 0.2, 2);
+    if (evidence >= 25.0) return s.t;
+  }
+  return NAN;
+}
+
 double median(std::vector<double> v) {
   if (v.empty()) return NAN;
   std::sort(v.begin(), v.end());
@@ -98,8 +135,8 @@ int main(int argc, char** argv) {
       t_on, healthy_seconds);
   std::printf(
       "| method | right first event | wrong first | missed | delay median / max s | within 10 s at 14/17/20 "
-      "m/s | "
-      "false alarms 8/12/16/20 m/s | blade-samples/s |\n|---|---|---|---|---|---|---|---|\n");
+      "m/s | within 10 s of the first information (runs with it) | "
+      "false alarms 8/12/16/20 m/s | blade-samples/s |\n|---|---|---|---|---|---|---|---|---|\n");
   PitchDiagConfig base;
   if (const char* file = std::getenv("PITCH_DIAG_CONFIG"))
     base = load_pitch_diag_config(YamlSection(YAML::LoadFile(file), file));
@@ -108,7 +145,7 @@ int main(int argc, char** argv) {
     cfg.identifier.method = m;
     if (m == Method::kPaperMifg || m == Method::kPaperRls)
       cfg.identifier.highpass_hz = 0.0;  // raw, as printed
-    int right = 0, wrong = 0, missed = 0;
+    int right = 0, wrong = 0, missed = 0, informed = 0, within_info = 0;
     std::map<double, int> within;
     std::vector<double> delays;
     std::size_t samples = 0;
@@ -116,6 +153,11 @@ int main(int argc, char** argv) {
     for (const auto& r : fault_runs) {
       const auto ev = diagnose(cfg, r.rec);
       samples += r.rec.size();
+      const auto& sig = cfg.classifier.signatures;
+      double t_info = NAN;
+      for (const auto& x : sig)
+        if (x.name == r.fault) t_info = first_information(r.rec, r.blade, t_on, sig[0], x);
+      informed += std::isfinite(t_info);
       const PitchEvent* first = nullptr;
       for (const auto& e : ev)
         if (e.raised) {
@@ -134,13 +176,15 @@ int main(int argc, char** argv) {
         ++right;
         delays.push_back(first->t - t_on);
         within[r.wind] += first->t - t_on <= 10.0;
+        within_info += std::isfinite(t_info) && first->t - t_info <= 10.0;
       } else {
         ++wrong;
       }
       if (verbose && (first->fault != r.fault || first->t - t_on > 10.0))
-        std::printf("  %s: %s on blade %d at %.0f m/s: first %s on %s after %.1f s\n", method_name(m),
-                    r.fault.c_str(), r.blade + 1, r.wind, first->fault.c_str(), first->component.c_str(),
-                    first->t - t_on);
+        std::printf("  %s: %s on blade %d at %.0f m/s: first %s on %s after %.1f s (%.1f s after the first "
+                    "information)\n",
+                    method_name(m), r.fault.c_str(), r.blade + 1, r.wind, first->fault.c_str(),
+                    first->component.c_str(), first->t - t_on, first->t - t_info);
     }
     std::string false_alarms;
     for (const auto& [wind, rec] : healthy) {
@@ -153,9 +197,9 @@ int main(int argc, char** argv) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     double dmax = 0;
     for (double d : delays) dmax = std::max(dmax, d);
-    std::printf("| %s | %d/27 | %d | %d | %.1f / %.1f | %d/%d/%d of 9 | %s | %.1f M |\n", method_name(m),
-                right, wrong, missed, median(delays), dmax, within[14.0], within[17.0], within[20.0],
-                false_alarms.c_str(), 3.0 * samples / wall / 1e6);
+    std::printf("| %s | %d/27 | %d | %d | %.1f / %.1f | %d/%d/%d of 9 | %d of %d | %s | %.1f M |\n",
+                method_name(m), right, wrong, missed, median(delays), dmax, within[14.0], within[17.0],
+                within[20.0], within_info, informed, false_alarms.c_str(), 3.0 * samples / wall / 1e6);
   }
   return 0;
 }
