@@ -3,7 +3,7 @@
 # turbines, every diagnostic service, the arbiter and the farm monitor (its live table on this terminal),
 # and ends with a table of injected faults against detections and the arbiter's reactions.
 # Usage: run_demo.sh [SCENARIO.yaml] (default deploy/scenarios/demo_farm.yaml)
-# Environment: WINDFDI_DEMO_RATE (speed-up, default 4), WINDFDI_DOMAIN, WINDFDI_PARTICIPANT_PROFILE.
+# Environment: WINDFDI_DEMO_RATE (speed-up, default 8), WINDFDI_DOMAIN, WINDFDI_PARTICIPANT_PROFILE.
 set -euo pipefail
 top=$(cd "$(dirname "$0")/../.." && pwd)
 build=${WINDFDI_BUILD_DIR:-$top/build}
@@ -15,7 +15,7 @@ export WINDFDI_PARTICIPANT_PROFILE=${WINDFDI_PARTICIPANT_PROFILE:-windfdi_partic
 work=$build/demo
 rm -rf "$work"
 start=$(date +%s)
-WINDFDI_BUILD_DIR=$build "$top/deploy/scripts/launch_farm.sh" "$scenario" --rate "${WINDFDI_DEMO_RATE:-4}" \
+WINDFDI_BUILD_DIR=$build "$top/deploy/scripts/launch_farm.sh" "$scenario" --rate "${WINDFDI_DEMO_RATE:-8}" \
   --work "$work" --record
 echo
 echo "== injected faults against detections ($(($(date +%s) - start)) s)"
