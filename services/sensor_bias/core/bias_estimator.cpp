@@ -68,6 +68,28 @@ void load_into(Obs& o, const GainFile& g, const char* what) {
   o.K = g.K;
 }
 
+// Observer mode: a gain file of `rw` states (random-walk biases) or of the observer's full size (bias rates
+// appended). A random-walk file is padded: rate states with identity dynamics, no gain and no output, so they stay
+// zero and the observer is exactly the random-walk one.
+template <int N, int M, int R>
+void load_observer(AugmentedObserver<N, M, R>& o, const GainFile& g, int rw, const char* what) {
+  const Eigen::Index n = g.A.rows();
+  if ((n != rw && n != N) || g.B.cols() != R || g.C.rows() != M)
+    throw ConfigError(g.file, 0, "A", std::string(what) + ": expected " + std::to_string(rw) + " or " +
+                                           std::to_string(N) + " states, " + std::to_string(R) + " inputs, " +
+                                           std::to_string(M) + " outputs; the gain file has " + std::to_string(n) +
+                                           ", " + std::to_string(g.B.cols()) + ", " + std::to_string(g.C.rows()));
+  o.A.setIdentity();
+  o.B.setZero();
+  o.C.setZero();
+  o.K.setZero();
+  o.A.topLeftCorner(n, n) = g.A;
+  o.B.topRows(n) = g.B;
+  o.C.leftCols(n) = g.C;
+  o.K.topRows(n) = g.K;
+  o.prepare();
+}
+
 bool in(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
 
 }  // namespace
@@ -83,8 +105,8 @@ BiasEstimator::BiasEstimator(const BiasConfig& config, const GainFile& dt, const
     load_into(dt_paper_, dt, "drive train (paper mode)");
     for (auto& p : pitch_paper_) load_into(p, pitch, "pitch (paper mode)");
   } else {
-    load_into(dt_obs_, dt, "drive train (observer mode)");
-    for (auto& p : pitch_obs_) load_into(p, pitch, "pitch (observer mode)");
+    load_observer(dt_obs_, dt, 5, "drive train (observer mode)");
+    for (auto& p : pitch_obs_) load_observer(p, pitch, 3, "pitch (observer mode)");
   }
   // The converter is first order: over a sample of T the mean torque moves (tau/T)(1 - exp(-T/tau)) of the way
   // from the measured torque to its reference.
@@ -140,7 +162,7 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       out_.bias[c] = e.step(yv, uv)(0);
     } else {
       auto& o = pitch_obs_[static_cast<std::size_t>(i)];
-      if (!pitch_init_[static_cast<std::size_t>(i)]) o.reset(Eigen::Vector3d(y, 0.0, 0.0));
+      if (!pitch_init_[static_cast<std::size_t>(i)]) o.reset(Eigen::Vector4d(y, 0.0, 0.0, 0.0));
       o.step(yv, uv);
       // The actuator is rate limited: so is its model's prediction (a saturated reference step is not a bias).
       o.state()(1) = std::clamp(o.state()(1), -turbine_.pitch_rate_limit, turbine_.pitch_rate_limit);
@@ -161,7 +183,9 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       const double theta = turbine_.gear_ratio * (s.gen_torque + turbine_.generator_friction * s.generator_speed) /
                            (turbine_.drive_train_efficiency * turbine_.drive_train_stiffness);
       if (paper) dt_paper_.reset(Eigen::Vector3d(s.rotor_speed, s.generator_speed, theta));
-      else dt_obs_.reset((Eigen::Matrix<double, 5, 1>() << s.rotor_speed, s.generator_speed, theta, 0.0, 0.0).finished());
+      else
+        dt_obs_.reset(
+            (Eigen::Matrix<double, 7, 1>() << s.rotor_speed, s.generator_speed, theta, 0.0, 0.0, 0.0, 0.0).finished());
     }
     ta = aero_torque(s);
   }

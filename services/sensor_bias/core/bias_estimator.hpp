@@ -86,8 +86,10 @@ class BiasEstimator {
   double torque_avg_;    // share of a torque step the converter delivers on average over one sample
   double aero_damping_;  // N m s/rad folded into the drive train's A by the design (added back to the input)
   std::array<double, kChannels> bias_bound_{};
-  AugmentedObserver<5, 3, 2> dt_obs_;  // outputs: rotor speed, generator speed, witness P / (eta_g T_g)
-  std::array<AugmentedObserver<3, 1, 1>, 3> pitch_obs_;
+  // States [omega_r, omega_g, theta, b_r, b_g, r_r, r_g] and [beta, beta_dot, b, r]: the bias-rate states r of the
+  // integrated-random-walk design; a random-walk gain file (5 and 3 states) is loaded with them held at zero.
+  AugmentedObserver<7, 3, 2> dt_obs_;  // outputs: rotor speed, generator speed, witness P / (eta_g T_g)
+  std::array<AugmentedObserver<4, 1, 1>, 3> pitch_obs_;
   PaperEstimator<3, 2, 2> dt_paper_;
   std::array<PaperEstimator<2, 1, 1>, 3> pitch_paper_;
   bool dt_init_ = false;
