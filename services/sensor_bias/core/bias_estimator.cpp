@@ -68,28 +68,6 @@ void load_into(Obs& o, const GainFile& g, const char* what) {
   o.K = g.K;
 }
 
-// Observer mode: a gain file of `rw` states (random-walk biases) or of the observer's full size (bias rates
-// appended). A random-walk file is padded: rate states with identity dynamics, no gain and no output, so they stay
-// zero and the observer is exactly the random-walk one.
-template <int N, int M, int R>
-void load_observer(AugmentedObserver<N, M, R>& o, const GainFile& g, int rw, const char* what) {
-  const Eigen::Index n = g.A.rows();
-  if ((n != rw && n != N) || g.B.cols() != R || g.C.rows() != M)
-    throw ConfigError(g.file, 0, "A", std::string(what) + ": expected " + std::to_string(rw) + " or " +
-                                           std::to_string(N) + " states, " + std::to_string(R) + " inputs, " +
-                                           std::to_string(M) + " outputs; the gain file has " + std::to_string(n) +
-                                           ", " + std::to_string(g.B.cols()) + ", " + std::to_string(g.C.rows()));
-  o.A.setIdentity();
-  o.B.setZero();
-  o.C.setZero();
-  o.K.setZero();
-  o.A.topLeftCorner(n, n) = g.A;
-  o.B.topRows(n) = g.B;
-  o.C.leftCols(n) = g.C;
-  o.K.topRows(n) = g.K;
-  o.prepare();
-}
-
 bool in(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
 
 }  // namespace
@@ -112,8 +90,12 @@ BiasEstimator::BiasEstimator(const BiasConfig& config, const GainFile& dt, const
   // from the measured torque to its reference.
   const double T = dt.sample_time, tau = turbine.converter_time_constant;
   torque_avg_ = tau > 0.0 ? 1.0 - tau / T * (1.0 - std::exp(-T / tau)) : 1.0;
-  for (int j = 0; j < 2; ++j) bias_bound_[static_cast<std::size_t>(j)] = dt.bias_bound.size() > j ? dt.bias_bound(j) : 0.0;
-  for (int j = 2; j < kChannels; ++j) bias_bound_[static_cast<std::size_t>(j)] = pitch.bias_bound.size() > 0 ? pitch.bias_bound(0) : 0.0;
+  auto inv = [](double b) { return b > 0.0 ? 1.0 / b : 0.0; };
+  for (int j = 0; j < 2; ++j)
+    inv_bias_bound_[static_cast<std::size_t>(j)] = dt.bias_bound.size() > j ? inv(dt.bias_bound(j)) : 0.0;
+  for (int j = 2; j < kChannels; ++j)
+    inv_bias_bound_[static_cast<std::size_t>(j)] = pitch.bias_bound.size() > 0 ? inv(pitch.bias_bound(0)) : 0.0;
+  filter_a_ = cfg_.filter_time > 0.0 ? 1.0 - std::exp(-dt.sample_time / cfg_.filter_time) : 1.0;
 }
 
 double BiasEstimator::aero_torque(const FrameSample& s) const {
@@ -232,18 +214,16 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
     all_ok = false;
   }
   if (!all_ok) ++rejected_;
-  out_.bound_ratio = 0.0;
-  for (int c = 0; c < kChannels; ++c)
-    if (bias_bound_[static_cast<std::size_t>(c)] > 0.0)
-      out_.bound_ratio = std::max(out_.bound_ratio, std::fabs(out_.bias[static_cast<std::size_t>(c)]) / bias_bound_[static_cast<std::size_t>(c)]);
+  double ratio = 0.0;
+  for (std::size_t c = 0; c < kChannels; ++c) ratio = std::max(ratio, std::fabs(out_.bias[c]) * inv_bias_bound_[c]);
+  out_.bound_ratio = ratio;
   has_output_ = dt_init_ || pitch_init_[0] || pitch_init_[1] || pitch_init_[2];
   detect(s.t, events);
   return all_ok;
 }
 
 void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
-  const double dt = 0.01;
-  const double a = cfg_.filter_time > 0.0 ? 1.0 - std::exp(-dt / cfg_.filter_time) : 1.0;
+  const double a = filter_a_;
   static const char* kUnit[] = {"rad/s", "rad/s", "deg", "deg", "deg"};
   filtered_diff_ += a * (out_.differential - filtered_diff_);
   for (int c = 0; c < kChannels; ++c) {
