@@ -37,8 +37,8 @@ static void BM_ObserverKernel(benchmark::State& state) {
 }
 BENCHMARK(BM_ObserverKernel)->Repetitions(3)->ReportAggregatesOnly(true);
 
-// The whole per-sample estimator (input checks, witness, drive-train and 3 pitch observers, detection), with the
-// aerodynamic torque from the estimator's model (the DDS path) or from the recording's column.
+// The whole per-sample estimator (input checks, witness, drive-train and 3 pitch observers, detection), with
+// the aerodynamic torque from the estimator's model (the DDS path) or from the recording's column.
 static void full_estimator(benchmark::State& state, bool with_aero_model) {
   TurbineParams tp;
   const YamlSection y = YamlSection::load_file(kDeploy + "/config/sensor_bias.yaml");
@@ -57,7 +57,8 @@ static void full_estimator(benchmark::State& state, bool with_aero_model) {
     s.power = 0.98 * s.generator_speed * s.gen_torque;  // the witness in use, as on a running turbine
     s.wind_hub = 14.0 + std::sin(0.3 * t);
     s.pitch = {5.0, 5.0, 5.0};
-    s.aero_torque = with_aero_model ? kNaN : 2.8e6 + 1e5 * std::sin(0.3 * t);  // NaN: the estimator's aero model
+    s.aero_torque =
+        with_aero_model ? kNaN : 2.8e6 + 1e5 * std::sin(0.3 * t);  // NaN: the estimator's aero model
   }
   double t = 0;
   std::size_t k = 0;

@@ -94,7 +94,8 @@ BiasEstimator::BiasEstimator(const BiasConfig& config, const GainFile& dt, const
   for (int j = 0; j < 2; ++j)
     inv_bias_bound_[static_cast<std::size_t>(j)] = dt.bias_bound.size() > j ? inv(dt.bias_bound(j)) : 0.0;
   for (int j = 2; j < kChannels; ++j)
-    inv_bias_bound_[static_cast<std::size_t>(j)] = pitch.bias_bound.size() > 0 ? inv(pitch.bias_bound(0)) : 0.0;
+    inv_bias_bound_[static_cast<std::size_t>(j)] =
+        pitch.bias_bound.size() > 0 ? inv(pitch.bias_bound(0)) : 0.0;
   filter_a_ = cfg_.filter_time > 0.0 ? 1.0 - std::exp(-dt.sample_time / cfg_.filter_time) : 1.0;
 }
 
@@ -167,7 +168,8 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       if (paper) dt_paper_.reset(Eigen::Vector3d(s.rotor_speed, s.generator_speed, theta));
       else
         dt_obs_.reset(
-            (Eigen::Matrix<double, 7, 1>() << s.rotor_speed, s.generator_speed, theta, 0.0, 0.0, 0.0, 0.0).finished());
+            (Eigen::Matrix<double, 7, 1>() << s.rotor_speed, s.generator_speed, theta, 0.0, 0.0, 0.0, 0.0)
+                .finished());
     }
     ta = aero_torque(s);
   }
@@ -215,7 +217,8 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
   }
   if (!all_ok) ++rejected_;
   double ratio = 0.0;
-  for (std::size_t c = 0; c < kChannels; ++c) ratio = std::max(ratio, std::fabs(out_.bias[c]) * inv_bias_bound_[c]);
+  for (std::size_t c = 0; c < kChannels; ++c)
+    ratio = std::max(ratio, std::fabs(out_.bias[c]) * inv_bias_bound_[c]);
   out_.bound_ratio = ratio;
   has_output_ = dt_init_ || pitch_init_[0] || pitch_init_[1] || pitch_init_[2];
   detect(s.t, events);

@@ -36,8 +36,9 @@ Eigen::MatrixXd paper_K_pitch();
 
 /// How a sensor bias evolves between samples in the augmented model.
 enum class BiasModel {
-  kRandomWalk,            ///< b+ = b + w_b: constant between kicks; a ramp or slow sinusoid is followed with a lag
-  kIntegratedRandomWalk,  ///< b+ = b + T r + w_b, r+ = r + w_r: a rate state, so a ramp is followed without lag
+  kRandomWalk,  ///< b+ = b + w_b: constant between kicks; a ramp or slow sinusoid is followed with a lag
+  kIntegratedRandomWalk,  ///< b+ = b + T r + w_b, r+ = r + w_r: a rate state, so a ramp is followed without
+                          ///< lag
 };
 
 /// Augments a model with one sensor bias per output:

@@ -82,8 +82,8 @@ class AugmentedObserver {
     v.template tail<M>() = y;
     x_ = F_ * x_ + G_ * v;
   }
-  /// One sample with output `skip` missing (its innovation counts as zero: the model predicts it). Equivalent to
-  /// step() with y(skip) replaced by the prediction C x.
+  /// One sample with output `skip` missing (its innovation counts as zero: the model predicts it). Equivalent
+  /// to step() with y(skip) replaced by the prediction C x.
   void step_without(Y y, const U& u, int skip) {
     y(skip) = C.row(skip).dot(x_);
     step(y, u);

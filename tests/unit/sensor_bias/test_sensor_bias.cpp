@@ -169,8 +169,8 @@ TEST(QbDesign, IllPosedInputGetsAMessageNotAGain) {
 TEST(QbDesign, IntegratedRandomWalkBiasModel) {
   // GIVEN the shipped drive-train design (bias_model: integrated_random_walk)
   const DesignInput in = load_design_input_file(kDeploy + "/sensor_bias/design_drive_train_observer.yaml");
-  // THEN it has 7 states: the 3 physical ones, the 2 biases at indices 3 and 4 (as in the random-walk form) and
-  // their rates, with b+ = b + T r, r+ = r (exactly), and the rates invisible to every output
+  // THEN it has 7 states: the 3 physical ones, the 2 biases at indices 3 and 4 (as in the random-walk form)
+  // and their rates, with b+ = b + T r, r+ = r (exactly), and the rates invisible to every output
   ASSERT_EQ(in.problem.A.rows(), 7);
   EXPECT_EQ(in.states[3], "bias_omega_r");
   EXPECT_EQ(in.states[6], "rate_bias_omega_g");
@@ -190,7 +190,8 @@ TEST(QbDesign, IntegratedRandomWalkBiasModel) {
   const char* base = "name: x\nmodel:\n  turbine_file: %s\n  subsystem: pitch\n  input_bound: [0.05]\n%s";
   const std::string turbine = kDeploy + "/turbine/benchmark_4.8MW.yaml";
   char a[600], b[600];
-  std::snprintf(a, sizeof a, base, turbine.c_str(), "  augment_biases: true\n  bias_acceleration_bound: [1.0e-3]\n");
+  std::snprintf(a, sizeof a, base, turbine.c_str(),
+                "  augment_biases: true\n  bias_acceleration_bound: [1.0e-3]\n");
   std::snprintf(b, sizeof b, base, turbine.c_str(), "  bias_model: integrated_random_walk\n");
   EXPECT_THROW(load_design_input(YamlSection(YAML::Load(a), "a.yaml")), ConfigError);
   EXPECT_THROW(load_design_input(YamlSection(YAML::Load(b), "b.yaml")), ConfigError);
@@ -264,14 +265,17 @@ struct PlantRun {
   std::array<double, kChannels> mean_estimate{};           // over the last 60 s
   uint64_t rejected = 0;
   double witness_share = 0.0;  // share of drive-train samples with the power witness in use
-  double witness_noise = 0.0;  // rad/s, rms of the power witness P / (eta_g T_g) minus the true generator speed
-  std::array<std::vector<double>, kChannels> error, injected;  // per sample after settle: estimate - injected, injected
+  double witness_noise =
+      0.0;  // rad/s, rms of the power witness P / (eta_g T_g) minus the true generator speed
+  std::array<std::vector<double>, kChannels> error,
+      injected;  // per sample after settle: estimate - injected, injected
 };
 
-// Noise floor of tracking `b` (one bias series, per sample at T = 0.01 s) from b + n, n white with std `sigma`:
-// the smallest rms error of a steady-state Kalman filter on a bias model with the plant known exactly, over a
-// log grid of its process noise (i.e. of its bandwidth). rates: integrated random walk (b, r), else random walk.
-// No causal linear estimator of that model structure does better on this signal at this noise.
+// Noise floor of tracking `b` (one bias series, per sample at T = 0.01 s) from b + n, n white with std
+// `sigma`: the smallest rms error of a steady-state Kalman filter on a bias model with the plant known
+// exactly, over a log grid of its process noise (i.e. of its bandwidth). rates: integrated random walk (b,
+// r), else random walk. No causal linear estimator of that model structure does better on this signal at this
+// noise.
 double tracking_floor(const std::vector<double>& b, double sigma, bool rates, uint64_t seed = 3) {
   const double T = 0.01, R = sigma * sigma;
   std::mt19937_64 rng(seed);
@@ -281,16 +285,23 @@ double tracking_floor(const std::vector<double>& b, double sigma, bool rates, ui
   double best = 1e300;
   for (double lq = -20.0; lq <= 0.0; lq += 0.25) {
     const double q = std::pow(10.0, lq) * R;
-    // Steady-state gain by iterating the Riccati recursion (F = [[1, T], [0, 1]], H = [1, 0], Q = diag(0, q)).
+    // Steady-state gain by iterating the Riccati recursion (F = [[1, T], [0, 1]], H = [1, 0], Q = diag(0,
+    // q)).
     Eigen::Matrix2d F, P = Eigen::Matrix2d::Identity() * R, Q = Eigen::Matrix2d::Zero();
     F << 1, rates ? T : 0.0, 0, rates ? 1.0 : 0.0;
-    if (rates) Q(1, 1) = q; else Q(0, 0) = q;
+    if (rates)
+      Q(1, 1) = q;
+    else
+      Q(0, 0) = q;
     Eigen::Vector2d K;
     for (int it = 0; it < 200000; ++it) {
       const Eigen::Matrix2d Pp = F * P * F.transpose() + Q;
       K = Pp.col(0) / (Pp(0, 0) + R);
       const Eigen::Matrix2d Pn = Pp - K * Pp.row(0);
-      if ((Pn - P).cwiseAbs().maxCoeff() <= 1e-12 * Pn.cwiseAbs().maxCoeff()) { P = Pn; break; }
+      if ((Pn - P).cwiseAbs().maxCoeff() <= 1e-12 * Pn.cwiseAbs().maxCoeff()) {
+        P = Pn;
+        break;
+      }
       P = Pn;
     }
     Eigen::Vector2d x(z[0], 0.0);
@@ -306,7 +317,8 @@ double tracking_floor(const std::vector<double>& b, double sigma, bool rates, ui
   return best;
 }
 
-// Splits an error series into its slow part (centred 2 s moving average: lag, model error) and the rest (noise).
+// Splits an error series into its slow part (centred 2 s moving average: lag, model error) and the rest
+// (noise).
 std::pair<double, double> slow_fast_rms(const std::vector<double>& e, int half = 100) {
   const int n = static_cast<int>(e.size());
   if (n <= 2 * half) return {0.0, 0.0};
@@ -358,9 +370,10 @@ PlantRun run_plant(double wind, double seconds, const std::vector<plant::FaultSp
         for (const auto& f : faults)
           if (f.target == kTargets[j] && s.t >= f.start) {
             const double kk = std::floor((s.t - f.start) / 0.01 + 1e-6);
-            b += f.type == "bias"    ? f.value
-                 : f.type == "drift" ? f.rate * (s.t - f.start)
-                                     : f.amplitude * truth[i] * (std::sin(kk / 500.0) + std::sin(kk / 1000.0) + 1.0);
+            b += f.type == "bias" ? f.value
+                 : f.type == "drift"
+                     ? f.rate * (s.t - f.start)
+                     : f.amplitude * truth[i] * (std::sin(kk / 500.0) + std::sin(kk / 1000.0) + 1.0);
           }
         const double e = est.output().bias[i] - b;
         r.rms_error[i] += e * e;
@@ -498,26 +511,36 @@ TEST(ObserverMode, TimeVaryingBiasOfThePaperOnThePlant) {
     const int ch = std::string(target) == "rotor_speed" ? 0 : std::string(target) == "generator_speed" ? 1 : 2;
     const double scale = std::string(target) == "rotor_speed" ? 0.02 * 1.71 : std::string(target) == "generator_speed" ? 0.02 * 162.0 : 0.05 * 14.0;
     const auto sf = slow_fast_rms(r.error[static_cast<std::size_t>(ch)]);
-    std::printf("bias_paper on %s: rms bias error %.4g = %.2f %% of amplitude*signal (slow 2 s-mean part %.2f %%, "
-                "the rest %.2f %%)\n", target, r.rms_error[static_cast<std::size_t>(ch)],
-                100.0 * r.rms_error[static_cast<std::size_t>(ch)] / scale, 100.0 * sf.first / scale, 100.0 * sf.second / scale);
+    std::printf(
+        "bias_paper on %s: rms bias error %.4g = %.2f %% of amplitude*signal (slow 2 s-mean part %.2f %%, "
+        "the rest %.2f %%)\n",
+        target, r.rms_error[static_cast<std::size_t>(ch)],
+        100.0 * r.rms_error[static_cast<std::size_t>(ch)] / scale, 100.0 * sf.first / scale,
+        100.0 * sf.second / scale);
     const auto si = slow_fast_rms(r.injected[static_cast<std::size_t>(ch)]);
     std::printf("  injected bias: slow part rms %.2f %%, fast part (the signal's own fluctuation) %.2f %%\n",
                 100.0 * si.first / scale, 100.0 * si.second / scale);
     // The noise a bias estimate of this channel cannot avoid, per sample: rotor, the rotor-speed sensor (the
-    // differential b_r - b_g / N sees it; the generator sensor's share, 0.05 / 95, is negligible); generator, the
-    // power witness (the only bias-free view of the common mode) with the generator sensor; pitch, the pitch sensor.
+    // differential b_r - b_g / N sees it; the generator sensor's share, 0.05 / 95, is negligible); generator,
+    // the power witness (the only bias-free view of the common mode) with the generator sensor; pitch, the
+    // pitch sensor.
     const double sigma = ch == 0 ? 0.025 : ch == 1 ? std::hypot(r.witness_noise, 0.05) : 0.2;
     const auto& inj = r.injected[static_cast<std::size_t>(ch)];
-    const double floor_rw = tracking_floor(inj, sigma, false) / scale, floor_rate = tracking_floor(inj, sigma, true) / scale;
-    std::printf("  noise floor (sigma %.3g per sample): best random-walk estimator %.2f %%, best rate-state estimator %.2f %%\n",
-                sigma, 100.0 * floor_rw, 100.0 * floor_rate);
+    const double floor_rw = tracking_floor(inj, sigma, false) / scale,
+                 floor_rate = tracking_floor(inj, sigma, true) / scale;
+    std::printf(
+        "  noise floor (sigma %.3g per sample): best random-walk estimator %.2f %%, best rate-state "
+        "estimator %.2f %%\n",
+        sigma, 100.0 * floor_rw, 100.0 * floor_rate);
     if (ch == 0)
-      std::printf("  in this run: generator-bias estimate error rms %.4g rad/s (= %.2f %% of the rotor scale after / N)\n",
-                  r.rms_error[1], 100.0 * r.rms_error[1] / 95.0 / scale);
+      std::printf(
+          "  in this run: generator-bias estimate error rms %.4g rad/s (= %.2f %% of the rotor scale after / "
+          "N)\n",
+          r.rms_error[1], 100.0 * r.rms_error[1] / 95.0 / scale);
     const double err = r.rms_error[static_cast<std::size_t>(ch)] / scale;
-    // THEN the error (rate-state drive train: rotor 9.1 %, generator 2.8 %; random-walk pitch 8.0 % measured) is
-    // within 1.5x of the noise floor of the best estimator of its bias model (known plant, only sensor noise) ...
+    // THEN the error (rate-state drive train: rotor 9.1 %, generator 2.8 %; random-walk pitch 8.0 % measured)
+    // is within 1.5x of the noise floor of the best estimator of its bias model (known plant, only sensor
+    // noise) ...
     EXPECT_LT(err, ch == 0 ? 0.11 : ch == 1 ? 0.04 : 0.10) << target;
     EXPECT_LT(err, 1.5 * (ch < 2 ? floor_rate : floor_rw)) << target;
     // ... and the paper's figures (< 4 %, 0.15 %, < 3.3 %) lie below that floor on the plant's sensor noise
@@ -539,15 +562,15 @@ TEST(ObserverMode, ARampBiasIsFollowedWithoutLag) {
   f.rate = 0.3;
   f.start = 60.0;
   const PlantRun r = run_plant(14.0, 180.0, {f}, Mode::kObserver, 12, 0.1, 60.0);
-  // WHEN the error is averaged over the ramp after 20 s (the common mode wanders +-0.05 rad/s over a minute with
-  // the power witness's noise; the average over 100 s shows the lag)
+  // WHEN the error is averaged over the ramp after 20 s (the common mode wanders +-0.05 rad/s over a minute
+  // with the power witness's noise; the average over 100 s shows the lag)
   const auto& e = r.error[1];
   double mean = 0.0;
   for (std::size_t k = 2000; k < e.size(); ++k) mean += e[k] / static_cast<double>(e.size() - 2000);
-  std::printf("drift 0.3 rad/s/s on the generator speed: mean error %+.4f rad/s (bias reached %.1f rad/s)\n", mean,
-              r.injected[1].back());
-  // THEN it stays below a third of what a random-walk bias model lags (rate x its ~0.7 s time constant, 0.2 rad/s;
-  // measured with the previous random-walk gains: -0.22 rad/s): the rate state follows the ramp
+  std::printf("drift 0.3 rad/s/s on the generator speed: mean error %+.4f rad/s (bias reached %.1f rad/s)\n",
+              mean, r.injected[1].back());
+  // THEN it stays below a third of what a random-walk bias model lags (rate x its ~0.7 s time constant, 0.2
+  // rad/s; measured with the previous random-walk gains: -0.22 rad/s): the rate state follows the ramp
   EXPECT_LT(std::fabs(mean), 0.07);
 }
 
