@@ -83,15 +83,20 @@ BiasEstimator::BiasEstimator(const BiasConfig& config, const GainFile& dt, const
     load_into(dt_paper_, dt, "drive train (paper mode)");
     for (auto& p : pitch_paper_) load_into(p, pitch, "pitch (paper mode)");
   } else {
-    load_into(dt_obs_, dt, "drive train (observer mode)");
-    for (auto& p : pitch_obs_) load_into(p, pitch, "pitch (observer mode)");
+    load_observer(dt_obs_, dt, 5, "drive train (observer mode)");
+    for (auto& p : pitch_obs_) load_observer(p, pitch, 3, "pitch (observer mode)");
   }
   // The converter is first order: over a sample of T the mean torque moves (tau/T)(1 - exp(-T/tau)) of the way
   // from the measured torque to its reference.
   const double T = dt.sample_time, tau = turbine.converter_time_constant;
   torque_avg_ = tau > 0.0 ? 1.0 - tau / T * (1.0 - std::exp(-T / tau)) : 1.0;
-  for (int j = 0; j < 2; ++j) bias_bound_[static_cast<std::size_t>(j)] = dt.bias_bound.size() > j ? dt.bias_bound(j) : 0.0;
-  for (int j = 2; j < kChannels; ++j) bias_bound_[static_cast<std::size_t>(j)] = pitch.bias_bound.size() > 0 ? pitch.bias_bound(0) : 0.0;
+  auto inv = [](double b) { return b > 0.0 ? 1.0 / b : 0.0; };
+  for (int j = 0; j < 2; ++j)
+    inv_bias_bound_[static_cast<std::size_t>(j)] = dt.bias_bound.size() > j ? inv(dt.bias_bound(j)) : 0.0;
+  for (int j = 2; j < kChannels; ++j)
+    inv_bias_bound_[static_cast<std::size_t>(j)] =
+        pitch.bias_bound.size() > 0 ? inv(pitch.bias_bound(0)) : 0.0;
+  filter_a_ = cfg_.filter_time > 0.0 ? 1.0 - std::exp(-dt.sample_time / cfg_.filter_time) : 1.0;
 }
 
 double BiasEstimator::aero_torque(const FrameSample& s) const {
@@ -140,7 +145,7 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       out_.bias[c] = e.step(yv, uv)(0);
     } else {
       auto& o = pitch_obs_[static_cast<std::size_t>(i)];
-      if (!pitch_init_[static_cast<std::size_t>(i)]) o.reset(Eigen::Vector3d(y, 0.0, 0.0));
+      if (!pitch_init_[static_cast<std::size_t>(i)]) o.reset(Eigen::Vector4d(y, 0.0, 0.0, 0.0));
       o.step(yv, uv);
       // The actuator is rate limited: so is its model's prediction (a saturated reference step is not a bias).
       o.state()(1) = std::clamp(o.state()(1), -turbine_.pitch_rate_limit, turbine_.pitch_rate_limit);
@@ -161,7 +166,10 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       const double theta = turbine_.gear_ratio * (s.gen_torque + turbine_.generator_friction * s.generator_speed) /
                            (turbine_.drive_train_efficiency * turbine_.drive_train_stiffness);
       if (paper) dt_paper_.reset(Eigen::Vector3d(s.rotor_speed, s.generator_speed, theta));
-      else dt_obs_.reset((Eigen::Matrix<double, 5, 1>() << s.rotor_speed, s.generator_speed, theta, 0.0, 0.0).finished());
+      else
+        dt_obs_.reset(
+            (Eigen::Matrix<double, 7, 1>() << s.rotor_speed, s.generator_speed, theta, 0.0, 0.0, 0.0, 0.0)
+                .finished());
     }
     ta = aero_torque(s);
   }
@@ -208,18 +216,17 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
     all_ok = false;
   }
   if (!all_ok) ++rejected_;
-  out_.bound_ratio = 0.0;
-  for (int c = 0; c < kChannels; ++c)
-    if (bias_bound_[static_cast<std::size_t>(c)] > 0.0)
-      out_.bound_ratio = std::max(out_.bound_ratio, std::fabs(out_.bias[static_cast<std::size_t>(c)]) / bias_bound_[static_cast<std::size_t>(c)]);
+  double ratio = 0.0;
+  for (std::size_t c = 0; c < kChannels; ++c)
+    ratio = std::max(ratio, std::fabs(out_.bias[c]) * inv_bias_bound_[c]);
+  out_.bound_ratio = ratio;
   has_output_ = dt_init_ || pitch_init_[0] || pitch_init_[1] || pitch_init_[2];
   detect(s.t, events);
   return all_ok;
 }
 
 void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
-  const double dt = 0.01;
-  const double a = cfg_.filter_time > 0.0 ? 1.0 - std::exp(-dt / cfg_.filter_time) : 1.0;
+  const double a = filter_a_;
   static const char* kUnit[] = {"rad/s", "rad/s", "deg", "deg", "deg"};
   filtered_diff_ += a * (out_.differential - filtered_diff_);
   for (int c = 0; c < kChannels; ++c) {

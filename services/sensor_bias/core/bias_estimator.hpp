@@ -47,6 +47,29 @@ struct BiasConfig {
 /// values are ConfigErrors naming file and key.
 BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gain_dir);
 
+/// Observer mode: a gain file of `rw` states (random-walk biases) or of the observer's full size (bias rates
+/// appended). A random-walk file is padded: rate states with identity dynamics, no gain and no output, so
+/// they stay zero and the observer is exactly the random-walk one.
+template <int N, int M, int R>
+void load_observer(AugmentedObserver<N, M, R>& o, const GainFile& g, int rw, const char* what) {
+  const Eigen::Index n = g.A.rows();
+  if ((n != rw && n != N) || g.B.cols() != R || g.C.rows() != M)
+    throw ConfigError(g.file, 0, "A",
+                      std::string(what) + ": expected " + std::to_string(rw) + " or " + std::to_string(N) +
+                          " states, " + std::to_string(R) + " inputs, " + std::to_string(M) +
+                          " outputs; the gain file has " + std::to_string(n) + ", " +
+                          std::to_string(g.B.cols()) + ", " + std::to_string(g.C.rows()));
+  o.A.setIdentity();
+  o.B.setZero();
+  o.C.setZero();
+  o.K.setZero();
+  o.A.topLeftCorner(n, n) = g.A;
+  o.B.topRows(n) = g.B;
+  o.C.leftCols(n) = g.C;
+  o.K.topRows(n) = g.K;
+  o.prepare();
+}
+
 /// What the service publishes each sample.
 struct BiasOutput {
   double t = 0.0;
@@ -85,9 +108,13 @@ class BiasEstimator {
   AeroModel aero_;
   double torque_avg_;    // share of a torque step the converter delivers on average over one sample
   double aero_damping_;  // N m s/rad folded into the drive train's A by the design (added back to the input)
-  std::array<double, kChannels> bias_bound_{};
-  AugmentedObserver<5, 3, 2> dt_obs_;  // outputs: rotor speed, generator speed, witness P / (eta_g T_g)
-  std::array<AugmentedObserver<3, 1, 1>, 3> pitch_obs_;
+  std::array<double, kChannels> inv_bias_bound_{};  // 1 / the design's bias-error bound (0: none)
+  double filter_a_ = 1.0;  // detector low-pass coefficient per sample, 1 - exp(-T / filter_time), formed once
+  // States [omega_r, omega_g, theta, b_r, b_g, r_r, r_g] and [beta, beta_dot, b, r]: the bias-rate states r
+  // of the integrated-random-walk design; a random-walk gain file (5 and 3 states) is loaded with them held
+  // at zero.
+  AugmentedObserver<7, 3, 2> dt_obs_;  // outputs: rotor speed, generator speed, witness P / (eta_g T_g)
+  std::array<AugmentedObserver<4, 1, 1>, 3> pitch_obs_;
   PaperEstimator<3, 2, 2> dt_paper_;
   std::array<PaperEstimator<2, 1, 1>, 3> pitch_paper_;
   bool dt_init_ = false;

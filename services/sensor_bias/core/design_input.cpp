@@ -18,9 +18,10 @@ Eigen::VectorXd vector_or(const YamlSection& s, const std::string& key, Eigen::I
 
 // Builds A, B, C (augmented with output biases when asked) and W1, W2 from per-channel bounds.
 void model_from_turbine(const YamlSection& m, DesignInput& in) {
-  m.require_known_keys({"turbine_file", "subsystem", "sample_time", "discretisation", "aero_damping", "augment_biases",
-                        "input_bound", "process_bound", "bias_rate_bound", "measurement_bound", "omega_n", "zeta",
-                        "generator_speed_witness"});
+  m.require_known_keys({"turbine_file", "subsystem", "sample_time", "discretisation", "aero_damping",
+                        "augment_biases", "input_bound", "process_bound", "bias_rate_bound",
+                        "measurement_bound", "omega_n", "zeta", "generator_speed_witness", "bias_model",
+                        "bias_acceleration_bound"});
   const std::filesystem::path f = m.require<std::string>("turbine_file");
   const std::string turbine_file =
       f.is_relative() ? (std::filesystem::path(m.file()).parent_path() / f).string() : f.string();
@@ -41,18 +42,36 @@ void model_from_turbine(const YamlSection& m, DesignInput& in) {
   DiscreteModel d = disc == "zoh" ? discretise_zoh(Ac, Bc, Cc, in.sample_time) : discretise_euler(Ac, Bc, Cc, in.sample_time);
   const Eigen::Index n = d.A.rows(), r = d.B.cols(), mb_out = d.C.rows();  // mb_out: the biased sensors
   const bool augment = m.get<bool>("augment_biases", false);
+  // bias_model: random_walk (b+ = b + w) or integrated_random_walk (a rate state r per bias: b+ = b + T r +
+  // w, r+ = r + w_r), which follows a ramp without lag and a slow sinusoid with a lag of second order in its
+  // frequency.
+  const BiasModel bias_model =
+      m.get_choice("bias_model", "random_walk", {"random_walk", "integrated_random_walk"}) ==
+              "integrated_random_walk"
+          ? BiasModel::kIntegratedRandomWalk
+          : BiasModel::kRandomWalk;
+  if (bias_model == BiasModel::kIntegratedRandomWalk && !augment)
+    throw m.error("bias_model", "integrated_random_walk needs augment_biases: true");
+  if (m.has("bias_acceleration_bound") && bias_model != BiasModel::kIntegratedRandomWalk)
+    throw m.error("bias_acceleration_bound", "only with bias_model: integrated_random_walk");
+  const bool rates = bias_model == BiasModel::kIntegratedRandomWalk;
   // generator_speed_witness: a third, bias-free output omega_g = P / (eta_g T_g) from the measured electrical
   // power and generator torque; it makes the common mode of the two speed-sensor biases observable.
   const bool witness = m.get<bool>("generator_speed_witness", false);
   if (witness && in.subsystem != "drive_train") throw m.error("generator_speed_witness", "only for subsystem drive_train");
   const Eigen::Index mo = mb_out + (witness ? 1 : 0);
   const Eigen::VectorXd ib = vector_or(m, "input_bound", r, 0.0), pb = vector_or(m, "process_bound", n, 0.0),
-                        rb = vector_or(m, "bias_rate_bound", mb_out, 0.0), mb = vector_or(m, "measurement_bound", mo, 0.0);
+                        rb = vector_or(m, "bias_rate_bound", mb_out, 0.0),
+                        mb = vector_or(m, "measurement_bound", mo, 0.0),
+                        ab = vector_or(m, "bias_acceleration_bound", mb_out,
+                                       0.0);  // per sample, on the rate state
   if (augment) {
     const std::vector<std::string> outs =
         in.subsystem == "drive_train" ? std::vector<std::string>{"bias_omega_r", "bias_omega_g"} : std::vector<std::string>{"bias_beta"};
     in.states.insert(in.states.end(), outs.begin(), outs.end());
-    d = augment_with_output_biases(d);
+    if (rates)
+      for (const auto& o : outs) in.states.push_back("rate_" + o);
+    d = augment_with_output_biases(d, bias_model);
   }
   if (witness) {
     Eigen::MatrixXd C(mo, d.A.cols());
@@ -71,6 +90,11 @@ void model_from_turbine(const YamlSection& m, DesignInput& in) {
   if (augment)
     for (Eigen::Index j = 0; j < mb_out; ++j)
       if (rb(j) > 0) c1.push_back(Eigen::VectorXd::Unit(na, n + j) * rb(j)), c2.push_back(Eigen::VectorXd::Zero(mo));
+  if (rates)
+    for (Eigen::Index j = 0; j < mb_out; ++j)
+      if (ab(j) > 0)
+        c1.push_back(Eigen::VectorXd::Unit(na, n + mb_out + j) * ab(j)),
+            c2.push_back(Eigen::VectorXd::Zero(mo));
   for (Eigen::Index j = 0; j < mo; ++j)
     if (mb(j) > 0) c1.push_back(Eigen::VectorXd::Zero(na)), c2.push_back(Eigen::VectorXd::Unit(mo, j) * mb(j));
   if (c1.empty()) throw m.error("", "no disturbance: give input_bound, process_bound, bias_rate_bound or measurement_bound");

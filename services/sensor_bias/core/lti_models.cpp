@@ -78,16 +78,19 @@ Eigen::MatrixXd paper_K_pitch() {
   return K;
 }
 
-DiscreteModel augment_with_output_biases(const DiscreteModel& m) {
+DiscreteModel augment_with_output_biases(const DiscreteModel& m, BiasModel model) {
   const Eigen::Index n = m.A.rows(), p = m.C.rows(), r = m.B.cols();
+  const Eigen::Index nr = model == BiasModel::kIntegratedRandomWalk ? p : 0;  // rate states
   DiscreteModel a;
   a.sample_time = m.sample_time;
-  a.A = Eigen::MatrixXd::Identity(n + p, n + p);
+  a.A = Eigen::MatrixXd::Identity(n + p + nr, n + p + nr);
   a.A.topLeftCorner(n, n) = m.A;
-  a.B = Eigen::MatrixXd::Zero(n + p, r);
+  if (nr > 0) a.A.block(n, n + p, p, p) = m.sample_time * Eigen::MatrixXd::Identity(p, p);  // b+ = b + T r
+  a.B = Eigen::MatrixXd::Zero(n + p + nr, r);
   a.B.topRows(n) = m.B;
-  a.C.resize(p, n + p);
-  a.C << m.C, Eigen::MatrixXd::Identity(p, p);
+  a.C = Eigen::MatrixXd::Zero(p, n + p + nr);
+  a.C.leftCols(n) = m.C;
+  a.C.block(0, n, p, p).setIdentity();
   return a;
 }
 

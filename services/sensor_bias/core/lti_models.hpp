@@ -34,9 +34,18 @@ DiscreteModel paper_pitch();
 Eigen::MatrixXd paper_K_drive_train();
 Eigen::MatrixXd paper_K_pitch();
 
-/// Augments a model with one sensor bias per output, each a bounded-rate random walk b+ = b + w_b:
-/// z = [x; b], A_a = [[A, 0], [0, I]], B_a = [B; 0], C_a = [C, I].
-DiscreteModel augment_with_output_biases(const DiscreteModel& m);
+/// How a sensor bias evolves between samples in the augmented model.
+enum class BiasModel {
+  kRandomWalk,  ///< b+ = b + w_b: constant between kicks; a ramp or slow sinusoid is followed with a lag
+  kIntegratedRandomWalk,  ///< b+ = b + T r + w_b, r+ = r + w_r: a rate state, so a ramp is followed without
+                          ///< lag
+};
+
+/// Augments a model with one sensor bias per output:
+///   random walk:            z = [x; b],    A_a = [[A, 0], [0, I]],                  C_a = [C, I]
+///   integrated random walk: z = [x; b; r], A_a = [[A, 0, 0], [0, I, T I], [0, 0, I]], C_a = [C, I, 0]
+/// with B_a = [B; 0]. The bias states keep their indices in both forms (the rates are appended).
+DiscreteModel augment_with_output_biases(const DiscreteModel& m, BiasModel model = BiasModel::kRandomWalk);
 
 /// Rank of the observability matrix of (A, C) and the smallest singular value of the PBH matrix [A - lambda I; C]
 /// over the eigenvalues lambda of A (after scaling the states by `scale`): 0 = unobservable mode.

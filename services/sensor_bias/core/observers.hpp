@@ -53,6 +53,8 @@ class PaperEstimator {
 
 /// The default: x+ = A x + B u + K (y - C x) on the state augmented with the sensor biases (gain from the
 /// QB LMI of the augmented system). `state()` before step() is the prediction x_{k|k-1}.
+/// Per sample it evaluates x+ = (A - K C) x + B u + K y with A - K C formed once in prepare() (call it after
+/// setting A, B, C, K): one N x N, one N x R and one N x M product, no temporaries on the heap.
 template <int N, int M, int R>
 class AugmentedObserver {
  public:
@@ -64,25 +66,36 @@ class AugmentedObserver {
   Eigen::Matrix<double, M, N> C;
   Eigen::Matrix<double, N, M> K;
 
-  void reset(const X& x0) { x_ = x0; }
-  /// One sample; returns the innovation y - C x_{k|k-1}.
-  Y step(const Y& y, const U& u) {
-    const Y innovation = y - C * x_;
-    x_ = A * x_ + B * u + K * innovation;
-    return innovation;
+  /// Forms A - K C and (B K) side by side; must follow any change of A, B, C or K.
+  void prepare() {
+    F_ = A - K * C;
+    G_.template leftCols<R>() = B;
+    G_.template rightCols<M>() = K;
+    prepared_ = true;
   }
-  /// One sample with output `skip` missing this sample (its innovation counts as zero: the model predicts it).
-  Y step_without(const Y& y, const U& u, int skip) {
-    Y innovation = y - C * x_;
-    innovation(skip) = 0.0;
-    x_ = A * x_ + B * u + K * innovation;
-    return innovation;
+  void reset(const X& x0) { x_ = x0; }
+  /// One sample; x+ = (A - K C) x + [B K] [u; y].
+  void step(const Y& y, const U& u) {
+    if (!prepared_) prepare();
+    Eigen::Matrix<double, R + M, 1> v;
+    v.template head<R>() = u;
+    v.template tail<M>() = y;
+    x_ = F_ * x_ + G_ * v;
+  }
+  /// One sample with output `skip` missing (its innovation counts as zero: the model predicts it). Equivalent
+  /// to step() with y(skip) replaced by the prediction C x.
+  void step_without(Y y, const U& u, int skip) {
+    y(skip) = C.row(skip).dot(x_);
+    step(y, u);
   }
   const X& state() const { return x_; }
   X& state() { return x_; }
 
  private:
   X x_ = X::Zero();
+  Eigen::Matrix<double, N, N> F_ = Eigen::Matrix<double, N, N>::Zero();
+  Eigen::Matrix<double, N, R + M> G_ = Eigen::Matrix<double, N, R + M>::Zero();
+  bool prepared_ = false;
 };
 
 }  // namespace windfdi::sensor_bias

@@ -380,10 +380,11 @@ QbSolution qb_solve_impl(const QbProblem& q, double alpha, const MatrixXd* Kfix)
       sol.bias_bound(j) = std::sqrt(c.dot(sol.R.ldlt().solve(c))) + (q.W2.row(j) * Qi_half).norm() +
                           ((q.C * q.W1).row(j) * Qi_half).norm();
     } else {
-      // An output's bias state is a trailing state that only that output sees (unit column of C, random walk in
-      // A); an output without one (an unbiased witness) gets the bound of its output error C e.
+      // An output's bias state is a state that only that output sees (unit column of C, unit column of A:
+      // nothing else drives it; a bias rate state, when there is one, enters through its own column); an
+      // output without one (an unbiased witness) gets the bound of its output error C e.
       VectorXd c = q.C.row(j).transpose();
-      for (int i = l.n - 1; i >= 0 && i >= l.n - l.m; --i)
+      for (int i = l.n - 1; i >= 0; --i)
         if (q.C.col(i).isApprox(VectorXd::Unit(l.m, j)) && q.A.col(i).isApprox(VectorXd::Unit(l.n, i))) {
           c = VectorXd::Unit(l.n, i);
           break;

@@ -166,6 +166,37 @@ TEST(QbDesign, IllPosedInputGetsAMessageNotAGain) {
                ConfigError);
 }
 
+TEST(QbDesign, IntegratedRandomWalkBiasModel) {
+  // GIVEN the shipped drive-train design (bias_model: integrated_random_walk)
+  const DesignInput in = load_design_input_file(kDeploy + "/sensor_bias/design_drive_train_observer.yaml");
+  // THEN it has 7 states: the 3 physical ones, the 2 biases at indices 3 and 4 (as in the random-walk form)
+  // and their rates, with b+ = b + T r, r+ = r (exactly), and the rates invisible to every output
+  ASSERT_EQ(in.problem.A.rows(), 7);
+  EXPECT_EQ(in.states[3], "bias_omega_r");
+  EXPECT_EQ(in.states[6], "rate_bias_omega_g");
+  for (int j = 0; j < 2; ++j) {
+    EXPECT_EQ(in.problem.A(3 + j, 5 + j), 0.01);
+    EXPECT_EQ(in.problem.A(5 + j, 5 + j), 1.0);
+    EXPECT_EQ(in.problem.A.col(3 + j), Eigen::VectorXd::Unit(7, 3 + j));
+    EXPECT_EQ(in.problem.C.col(5 + j).norm(), 0.0);
+  }
+  // AND the solved gain reports the bias-state bound (not the rate's) for each biased output: the gain file's
+  // bias_bound equals its state_bound of states 3 and 4
+  const GainFile g = load_gain_file(kDeploy + "/sensor_bias/gains_drive_train_observer.yaml");
+  ASSERT_EQ(g.bias_bound.size(), 3);
+  EXPECT_DOUBLE_EQ(g.bias_bound(0), g.state_bound(3));
+  EXPECT_DOUBLE_EQ(g.bias_bound(1), g.state_bound(4));
+  // AND a rate bound without the rate model, or the rate model without the biases, is a ConfigError
+  const char* base = "name: x\nmodel:\n  turbine_file: %s\n  subsystem: pitch\n  input_bound: [0.05]\n%s";
+  const std::string turbine = kDeploy + "/turbine/benchmark_4.8MW.yaml";
+  char a[600], b[600];
+  std::snprintf(a, sizeof a, base, turbine.c_str(),
+                "  augment_biases: true\n  bias_acceleration_bound: [1.0e-3]\n");
+  std::snprintf(b, sizeof b, base, turbine.c_str(), "  bias_model: integrated_random_walk\n");
+  EXPECT_THROW(load_design_input(YamlSection(YAML::Load(a), "a.yaml")), ConfigError);
+  EXPECT_THROW(load_design_input(YamlSection(YAML::Load(b), "b.yaml")), ConfigError);
+}
+
 TEST(QbDesign, ShippedGainsAreCertifiedAndReproducible) {
   for (const char* name : {"drive_train_observer", "pitch_observer", "pitch_paper"}) {
     // GIVEN the shipped design input and its gain file
@@ -234,7 +265,74 @@ struct PlantRun {
   std::array<double, kChannels> mean_estimate{};           // over the last 60 s
   uint64_t rejected = 0;
   double witness_share = 0.0;  // share of drive-train samples with the power witness in use
+  double witness_noise =
+      0.0;  // rad/s, rms of the power witness P / (eta_g T_g) minus the true generator speed
+  std::array<std::vector<double>, kChannels> error,
+      injected;  // per sample after settle: estimate - injected, injected
 };
+
+// Noise floor of tracking `b` (one bias series, per sample at T = 0.01 s) from b + n, n white with std
+// `sigma`: the smallest rms error of a steady-state Kalman filter on a bias model with the plant known
+// exactly, over a log grid of its process noise (i.e. of its bandwidth). rates: integrated random walk (b,
+// r), else random walk. No causal linear estimator of that model structure does better on this signal at this
+// noise.
+double tracking_floor(const std::vector<double>& b, double sigma, bool rates, uint64_t seed = 3) {
+  const double T = 0.01, R = sigma * sigma;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> nd(0.0, sigma);
+  std::vector<double> z(b.size());
+  for (std::size_t k = 0; k < b.size(); ++k) z[k] = b[k] + nd(rng);
+  double best = 1e300;
+  for (double lq = -20.0; lq <= 0.0; lq += 0.25) {
+    const double q = std::pow(10.0, lq) * R;
+    // Steady-state gain by iterating the Riccati recursion (F = [[1, T], [0, 1]], H = [1, 0], Q = diag(0,
+    // q)).
+    Eigen::Matrix2d F, P = Eigen::Matrix2d::Identity() * R, Q = Eigen::Matrix2d::Zero();
+    F << 1, rates ? T : 0.0, 0, rates ? 1.0 : 0.0;
+    if (rates)
+      Q(1, 1) = q;
+    else
+      Q(0, 0) = q;
+    Eigen::Vector2d K;
+    for (int it = 0; it < 200000; ++it) {
+      const Eigen::Matrix2d Pp = F * P * F.transpose() + Q;
+      K = Pp.col(0) / (Pp(0, 0) + R);
+      const Eigen::Matrix2d Pn = Pp - K * Pp.row(0);
+      if ((Pn - P).cwiseAbs().maxCoeff() <= 1e-12 * Pn.cwiseAbs().maxCoeff()) {
+        P = Pn;
+        break;
+      }
+      P = Pn;
+    }
+    Eigen::Vector2d x(z[0], 0.0);
+    double se = 0.0;
+    const std::size_t skip = std::min<std::size_t>(b.size() / 4, 3000);
+    for (std::size_t k = 0; k < b.size(); ++k) {
+      x = F * x;
+      x += K * (z[k] - x(0));
+      if (k >= skip) se += (x(0) - b[k]) * (x(0) - b[k]);
+    }
+    best = std::min(best, std::sqrt(se / static_cast<double>(b.size() - skip)));
+  }
+  return best;
+}
+
+// Splits an error series into its slow part (centred 2 s moving average: lag, model error) and the rest
+// (noise).
+std::pair<double, double> slow_fast_rms(const std::vector<double>& e, int half = 100) {
+  const int n = static_cast<int>(e.size());
+  if (n <= 2 * half) return {0.0, 0.0};
+  double slow = 0.0, fast = 0.0, sum = 0.0;
+  for (int k = 0; k < 2 * half + 1; ++k) sum += e[static_cast<std::size_t>(k)];
+  int m = 0;
+  for (int k = half; k < n - half - 1; ++k, ++m) {
+    const double mean = sum / (2 * half + 1);
+    slow += mean * mean;
+    fast += (e[static_cast<std::size_t>(k)] - mean) * (e[static_cast<std::size_t>(k)] - mean);
+    sum += e[static_cast<std::size_t>(k + half + 1)] - e[static_cast<std::size_t>(k - half)];
+  }
+  return {std::sqrt(slow / m), std::sqrt(fast / m)};
+}
 
 PlantRun run_plant(double wind, double seconds, const std::vector<plant::FaultSpec>& faults, Mode mode = Mode::kObserver,
                    uint64_t seed = 7, double ti = 0.1, double settle = 60.0) {
@@ -247,7 +345,7 @@ PlantRun run_plant(double wind, double seconds, const std::vector<plant::FaultSp
   const BiasConfig c = config(mode);
   BiasEstimator est(c, load_gain_file(c.drive_train_gain_file), load_gain_file(c.pitch_gain_file), p);
   PlantRun r;
-  int n = 0, nlast = 0;
+  int n = 0, nlast = 0, nw = 0;
   std::array<double, kChannels> filt{};
   const double a = 1.0 - std::exp(-0.01 / c.filter_time);
   const int total = static_cast<int>(seconds * 100);
@@ -257,6 +355,11 @@ PlantRun run_plant(double wind, double seconds, const std::vector<plant::FaultSp
     s.aero_power = kNaN;
     const auto& tr = sim.truth();
     est.update(s, false, r.events);
+    if (std::isfinite(est.output().witness_speed)) {
+      const double e = est.output().witness_speed - sim.truth().generator_speed;
+      r.witness_noise += e * e;
+      ++nw;
+    }
     // The injected bias (the fault definition on the true value), so sensor noise is not counted as error.
     const std::array<double, kChannels> truth = {tr.rotor_speed, tr.generator_speed, tr.pitch[0], tr.pitch[1], tr.pitch[2]};
     static const char* kTargets[] = {"rotor_speed", "generator_speed", "pitch_1", "pitch_2", "pitch_3"};
@@ -268,10 +371,14 @@ PlantRun run_plant(double wind, double seconds, const std::vector<plant::FaultSp
           if (f.target == kTargets[j] && s.t >= f.start) {
             const double kk = std::floor((s.t - f.start) / 0.01 + 1e-6);
             b += f.type == "bias" ? f.value
-                                  : f.amplitude * truth[i] * (std::sin(kk / 500.0) + std::sin(kk / 1000.0) + 1.0);
+                 : f.type == "drift"
+                     ? f.rate * (s.t - f.start)
+                     : f.amplitude * truth[i] * (std::sin(kk / 500.0) + std::sin(kk / 1000.0) + 1.0);
           }
         const double e = est.output().bias[i] - b;
         r.rms_error[i] += e * e;
+        r.error[i].push_back(e);
+        r.injected[i].push_back(b);
         // The peak of the detector's view: the estimate after the detector's low-pass (filter_time)
         filt[i] += a * (e - filt[i]);
         r.max_error[i] = std::max(r.max_error[i], std::fabs(filt[i]));
@@ -285,6 +392,7 @@ PlantRun run_plant(double wind, double seconds, const std::vector<plant::FaultSp
   }
   for (auto& v : r.rms_error) v = std::sqrt(v / std::max(n, 1));
   for (auto& v : r.mean_estimate) v /= std::max(nlast, 1);
+  r.witness_noise = std::sqrt(r.witness_noise / std::max(nw, 1));
   r.rejected = est.rejected();
   r.witness_share = static_cast<double>(est.witness_used()) / static_cast<double>(std::max<uint64_t>(est.fed_drive_train(), 1));
   return r;
@@ -402,16 +510,68 @@ TEST(ObserverMode, TimeVaryingBiasOfThePaperOnThePlant) {
     const PlantRun r = run_plant(16.0, 900.0, {f}, Mode::kObserver, 9, 0.1, 90.0);
     const int ch = std::string(target) == "rotor_speed" ? 0 : std::string(target) == "generator_speed" ? 1 : 2;
     const double scale = std::string(target) == "rotor_speed" ? 0.02 * 1.71 : std::string(target) == "generator_speed" ? 0.02 * 162.0 : 0.05 * 14.0;
-    std::printf("bias_paper on %s: rms bias error %.4g = %.2f %% of amplitude*signal\n", target,
-                r.rms_error[static_cast<std::size_t>(ch)], 100.0 * r.rms_error[static_cast<std::size_t>(ch)] / scale);
-    // THEN the error is a fraction of the bias scale (rotor 13 %, generator 12 %, pitch 8 % measured) ...
-    EXPECT_LT(r.rms_error[static_cast<std::size_t>(ch)], 0.2 * scale) << target;
+    const auto sf = slow_fast_rms(r.error[static_cast<std::size_t>(ch)]);
+    std::printf(
+        "bias_paper on %s: rms bias error %.4g = %.2f %% of amplitude*signal (slow 2 s-mean part %.2f %%, "
+        "the rest %.2f %%)\n",
+        target, r.rms_error[static_cast<std::size_t>(ch)],
+        100.0 * r.rms_error[static_cast<std::size_t>(ch)] / scale, 100.0 * sf.first / scale,
+        100.0 * sf.second / scale);
+    const auto si = slow_fast_rms(r.injected[static_cast<std::size_t>(ch)]);
+    std::printf("  injected bias: slow part rms %.2f %%, fast part (the signal's own fluctuation) %.2f %%\n",
+                100.0 * si.first / scale, 100.0 * si.second / scale);
+    // The noise a bias estimate of this channel cannot avoid, per sample: rotor, the rotor-speed sensor (the
+    // differential b_r - b_g / N sees it; the generator sensor's share, 0.05 / 95, is negligible); generator,
+    // the power witness (the only bias-free view of the common mode) with the generator sensor; pitch, the
+    // pitch sensor.
+    const double sigma = ch == 0 ? 0.025 : ch == 1 ? std::hypot(r.witness_noise, 0.05) : 0.2;
+    const auto& inj = r.injected[static_cast<std::size_t>(ch)];
+    const double floor_rw = tracking_floor(inj, sigma, false) / scale,
+                 floor_rate = tracking_floor(inj, sigma, true) / scale;
+    std::printf(
+        "  noise floor (sigma %.3g per sample): best random-walk estimator %.2f %%, best rate-state "
+        "estimator %.2f %%\n",
+        sigma, 100.0 * floor_rw, 100.0 * floor_rate);
+    if (ch == 0)
+      std::printf(
+          "  in this run: generator-bias estimate error rms %.4g rad/s (= %.2f %% of the rotor scale after / "
+          "N)\n",
+          r.rms_error[1], 100.0 * r.rms_error[1] / 95.0 / scale);
+    const double err = r.rms_error[static_cast<std::size_t>(ch)] / scale;
+    // THEN the error (rate-state drive train: rotor 9.1 %, generator 2.8 %; random-walk pitch 8.0 % measured)
+    // is within 1.5x of the noise floor of the best estimator of its bias model (known plant, only sensor
+    // noise) ...
+    EXPECT_LT(err, ch == 0 ? 0.11 : ch == 1 ? 0.04 : 0.10) << target;
+    EXPECT_LT(err, 1.5 * (ch < 2 ? floor_rate : floor_rw)) << target;
+    // ... and the paper's figures (< 4 %, 0.15 %, < 3.3 %) lie below that floor on the plant's sensor noise
+    EXPECT_GT(floor_rate, ch == 0 ? 0.04 : ch == 1 ? 0.0015 : 0.033) << target;
     // AND the biased sensor is flagged (the bias reaches 3 x 2 %)
     bool flagged = false;
     for (const auto& e : r.events)
       if (e.raised && e.component == channel_components()[static_cast<std::size_t>(ch)]) flagged = true;
     EXPECT_TRUE(flagged) << target;
   }
+}
+
+TEST(ObserverMode, ARampBiasIsFollowedWithoutLag) {
+  // GIVEN a generator-speed sensor drifting at 0.3 rad/s per s from 60 s at 14 m/s (36 rad/s after 120 s)
+  plant::FaultSpec f;
+  f.turbine = "WT01";
+  f.target = "generator_speed";
+  f.type = "drift";
+  f.rate = 0.3;
+  f.start = 60.0;
+  const PlantRun r = run_plant(14.0, 180.0, {f}, Mode::kObserver, 12, 0.1, 60.0);
+  // WHEN the error is averaged over the ramp after 20 s (the common mode wanders +-0.05 rad/s over a minute
+  // with the power witness's noise; the average over 100 s shows the lag)
+  const auto& e = r.error[1];
+  double mean = 0.0;
+  for (std::size_t k = 2000; k < e.size(); ++k) mean += e[k] / static_cast<double>(e.size() - 2000);
+  std::printf("drift 0.3 rad/s/s on the generator speed: mean error %+.4f rad/s (bias reached %.1f rad/s)\n",
+              mean, r.injected[1].back());
+  // THEN it stays below a third of what a random-walk bias model lags (rate x its ~0.7 s time constant, 0.2
+  // rad/s; measured with the previous random-walk gains: -0.22 rad/s): the rate state follows the ramp
+  EXPECT_LT(std::fabs(mean), 0.07);
 }
 
 TEST(BiasEstimator, BadSamplesAreCountedAndNeverFed) {
