@@ -18,6 +18,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   s.require_known_keys({"turbine_file", "mode", "drive_train_gains", "pitch_gains", "paper_drive_train_gains",
                         "paper_pitch_gains", "threshold_rotor_speed", "threshold_generator_speed", "threshold_pitch",
                         "raise_time", "clear_ratio", "clear_time", "filter_time", "settle_time", "witness_torque_min",
+                        "max_tracking_error",
                         "differential_confirm", "rotor_speed_max",
                         "generator_speed_max", "torque_max", "wind_max", "pitch_min", "pitch_max"});
   BiasConfig c;
@@ -43,6 +44,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   c.filter_time = s.get_number("filter_time", c.filter_time, 0.0, 600.0);
   c.settle_time = s.get_number("settle_time", c.settle_time, 0.0, 3600.0);
   c.witness_torque_min = s.get_number("witness_torque_min", c.witness_torque_min, 1.0, 1e9);
+  c.max_tracking_error = s.get_number("max_tracking_error", c.max_tracking_error, 0.0, 90.0);
   c.differential_confirm = s.get_number("differential_confirm", c.differential_confirm, 0.0, 1.0);
   c.rotor_speed_max = s.get_number("rotor_speed_max", c.rotor_speed_max, 0.1, 100.0);
   c.generator_speed_max = s.get_number("generator_speed_max", c.generator_speed_max, 1.0, 10000.0);
@@ -146,7 +148,15 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
     } else {
       auto& o = pitch_obs_[static_cast<std::size_t>(i)];
       if (!pitch_init_[static_cast<std::size_t>(i)]) o.reset(Eigen::Vector4d(y, 0.0, 0.0, 0.0));
+      const Eigen::Vector2d held = o.state().tail<2>();
       o.step(yv, uv);
+      if (cfg_.max_tracking_error > 0.0 && std::fabs(r - y) > cfg_.max_tracking_error) {
+        // Rate-limited: the measured 28-31 deg lag of a safe stop's feathering ramp read as a bias on healthy
+        // blades (end to end). Hold the bias (and its rate); the angle follows the measurement.
+        o.state().tail<2>() = held;
+        o.state()(0) = y - held(0);
+        ++tracking_holds_;
+      }
       // The actuator is rate limited: so is its model's prediction (a saturated reference step is not a bias).
       o.state()(1) = std::clamp(o.state()(1), -turbine_.pitch_rate_limit, turbine_.pitch_rate_limit);
       out_.bias[c] = o.state()(2);
@@ -195,6 +205,10 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
                               s.gen_torque >= cfg_.witness_torque_min && s.power > 0.0;
       const double wg = witness_ok ? s.power / (turbine_.generator_efficiency * s.gen_torque) : kNaN;
       const Eigen::Vector3d y3(s.rotor_speed, s.generator_speed, wg);
+      // Not producing (a stop ramps the torque to zero, idling): the witness is gone and the common mode
+      // unobservable (README); a safe stop drifted the rotor-speed bias past its threshold. Hold the biases.
+      const bool producing = s.gen_torque >= cfg_.witness_torque_min;
+      const Eigen::Matrix<double, 4, 1> held = dt_obs_.state().tail<4>();
       if (witness_ok && wg <= cfg_.generator_speed_max) {
         dt_obs_.step(y3, u);
         out_.witness_speed = wg;
@@ -202,6 +216,7 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       } else {
         dt_obs_.step_without(Eigen::Vector3d(y3(0), y3(1), 0.0), u, 2);
       }
+      if (!producing) dt_obs_.state().tail<4>() = held;
       out_.bias[0] = dt_obs_.state()(3);
       out_.bias[1] = dt_obs_.state()(4);
       for (int j = 0; j < 3; ++j) out_.drive_train_state[static_cast<std::size_t>(j)] = dt_obs_.state()(j);

@@ -32,7 +32,10 @@ struct BiasConfig {
   double settle_time = 20.0;   ///< s after the first (or after a gap) sample before anything is raised
   /// Observer mode: the generator-speed witness P / (eta_g T_g) is used only while the measured torque is above
   /// this (its noise grows as 1 / T_g).
-  double witness_torque_min = 3000.0;  ///< N m
+  double witness_torque_min = 3000.0;  ///< N m; below it (not producing: a stop, idling) the speed biases are held
+  /// Observer mode: while |pitch reference - pitch| exceeds this (deg) the actuator runs at its rate limit (a
+  /// safe stop's jump to feather), where the linear actuator model does not hold: the pitch bias is held. 0: off.
+  double max_tracking_error = 5.0;
   /// Observer mode: a speed sensor is flagged only when the differential b_r - b_g / N (what the two speed
   /// sensors alone can see) confirms it with the same sign and at least this share of the threshold.
   double differential_confirm = 0.5;
@@ -94,6 +97,8 @@ class BiasEstimator {
   const BiasOutput& output() const { return out_; }
   bool has_output() const { return has_output_; }
   uint64_t rejected() const { return rejected_; }
+  /// Pitch samples on which the bias was held because the actuator was rate limited (max_tracking_error).
+  uint64_t tracking_holds() const { return tracking_holds_; }
   uint64_t fed_drive_train() const { return fed_dt_; }
   uint64_t witness_used() const { return witness_used_; }  ///< drive-train samples with the power witness
   const std::array<bool, kChannels>& raised() const { return raised_; }
@@ -126,7 +131,7 @@ class BiasEstimator {
   std::array<bool, kChannels> raised_{};
   BiasOutput out_;
   bool has_output_ = false;
-  uint64_t rejected_ = 0, fed_dt_ = 0, witness_used_ = 0;
+  uint64_t rejected_ = 0, fed_dt_ = 0, witness_used_ = 0, tracking_holds_ = 0;
 };
 
 }  // namespace windfdi::sensor_bias
