@@ -37,7 +37,7 @@ const char* to_string(IceMode m) {
 
 ArbiterConfig load_arbiter_config(const YamlSection& s) {
   s.require_known_keys({"clear_hold", "nominal_pitch_rate", "derated_pitch_rate", "rotor_speed_bias_limit",
-                        "generator_speed_bias_limit", "pitch_bias_limit", "has_lidar"});
+                        "generator_speed_bias_limit", "pitch_bias_limit", "has_lidar", "inertia_step"});
   ArbiterConfig c;
   c.clear_hold = s.get_number("clear_hold", c.clear_hold, 0.0, 3600.0);
   c.nominal_pitch_rate = s.get_number("nominal_pitch_rate", c.nominal_pitch_rate, 1.0, 30.0);
@@ -49,6 +49,7 @@ ArbiterConfig load_arbiter_config(const YamlSection& s) {
       s.get_number("generator_speed_bias_limit", c.generator_speed_bias_limit, 0.0, 1000.0);
   c.pitch_bias_limit = s.get_number("pitch_bias_limit", c.pitch_bias_limit, 0.0, 90.0);
   c.has_lidar = s.get<bool>("has_lidar", c.has_lidar);
+  c.inertia_step = s.get_number("inertia_step", c.inertia_step, 0.0, 0.5);
   return c;
 }
 

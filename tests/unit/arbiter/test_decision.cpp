@@ -255,6 +255,11 @@ TEST(Decision, AdaptedIceCarriesTheInertiaEstimate) {
   a.on_fault(fault("ice_detect", "rotor", "ice_accretion", "fault"), 0.0);
   EXPECT_DOUBLE_EQ(a.evaluate(0.0).inertia, 4.6e6);
   EXPECT_DOUBLE_EQ(Arbiter().evaluate(0.0).inertia, 0.0);
+  // AND estimator noise (1 %) does not re-tune the controller, a real change (3 %) does
+  a.on_inertia(4.6e6 * 1.01);
+  EXPECT_DOUBLE_EQ(a.evaluate(1.0).inertia, 4.6e6);
+  a.on_inertia(4.6e6 * 1.03);
+  EXPECT_DOUBLE_EQ(a.evaluate(2.0).inertia, 4.6e6 * 1.03);
 }
 
 TEST(Decision, ConfigLoaderRejectsBadValues) {
