@@ -2,6 +2,7 @@
 #include "process.hpp"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -110,7 +111,26 @@ int ChildProcess::stop(int signal, std::chrono::milliseconds grace) {
 std::string ChildProcess::stdout_text() const { return read_file(out_path_); }
 std::string ChildProcess::stderr_text() const { return read_file(err_path_); }
 
-int private_domain(int salt) { return 1 + static_cast<int>((getpid() * 7 + salt * 13) % 200); }
+int private_domain(int salt) {
+  // Tests run in parallel (ctest -j): a hash of pid and salt alone once gave two concurrent tests the same
+  // domain (each saw the other's plant, and each one's clean-up removed the other's shared memory). A domain is
+  // taken by an exclusive flock on /tmp/windfdi-test-domain-N.lock, held by this process until it exits (a
+  // crash releases it); the hash only picks where the search starts.
+  static std::vector<int> held;  // lock descriptors, open for the life of the process
+  const int start = static_cast<int>((getpid() * 7 + salt * 13) % 200);
+  for (int i = 0; i < 200; ++i) {
+    const int domain = 1 + (start + i) % 200;
+    const std::string path = "/tmp/windfdi-test-domain-" + std::to_string(domain) + ".lock";
+    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+    if (fd < 0) continue;
+    if (::flock(fd, LOCK_EX | LOCK_NB) == 0) {
+      held.push_back(fd);
+      return domain;
+    }
+    ::close(fd);
+  }
+  throw std::runtime_error("private_domain: all 200 test domains are taken");
+}
 
 int remove_stale_shm(int domain) {
   int removed = 0;

@@ -36,7 +36,8 @@ class ChildProcess {
   std::string out_path_, err_path_;
 };
 
-/// A domain id private to this test process (derived from the pid and a salt), in 1..200.
+/// A domain id in 1..200 that no other running test holds (an flock held until this process exits); each call
+/// gives another domain. The pid and salt only pick where the search starts.
 int private_domain(int salt = 0);
 
 /// Removes the Fast DDS shared-memory port files of `domain` (a crashed participant leaves them), and

@@ -1,5 +1,7 @@
 // Unit tests of the YAML configuration helpers: defaults, ranges, unknown keys, errors naming file and key.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -85,6 +87,34 @@ TEST(YamlConfig, ChoiceAndSequence) {
   ASSERT_EQ(t.size(), 2u);
   EXPECT_EQ(t[1].require<std::string>("id"), "WT02");
   EXPECT_THROW(t[0].require<std::string>("mean_wind"), ConfigError);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(TestSupport, PrivateDomainsAreExclusiveAcrossProcesses) {
+  // GIVEN a domain this process holds
+  const int mine = windfdi::test::private_domain(5);
+  // THEN another call here gets another one, and so does another process asking with the same salt while
+  // this one holds it (the collision CI saw between two parallel tests)
+  EXPECT_NE(windfdi::test::private_domain(5), mine);
+  int fds[2];
+  ASSERT_EQ(pipe(fds), 0);
+  const pid_t child = fork();
+  if (child == 0) {
+    const int theirs = windfdi::test::private_domain(5);
+    (void)!write(fds[1], &theirs, sizeof theirs);
+    _exit(0);
+  }
+  int theirs = 0;
+  ASSERT_EQ(read(fds[0], &theirs, sizeof theirs), static_cast<ssize_t>(sizeof theirs));
+  waitpid(child, nullptr, 0);
+  close(fds[0]);
+  close(fds[1]);
+  EXPECT_NE(theirs, mine);
+  EXPECT_GE(theirs, 1);
+  EXPECT_LE(theirs, 200);
 }
 
 }  // namespace
