@@ -3,7 +3,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include <filesystem>
 #include <memory>
 
 #include "Estimates.h"
@@ -106,9 +105,9 @@ ServiceSpec blade_load_spec() {
     state->config = load_monitor_config(cfg ? *cfg : defaults, state->turbine);
     state->table =
         LoadTable::load_csv(beside(cfg, "load_table_file", deploy + "/turbine/benchmark_4.8MW_load_table.csv"));
-    state->state_file = cfg && cfg->has("state_file") ? cfg->get<std::string>("state_file", "") : "";
-    if (!state->state_file.empty() && std::filesystem::path(state->state_file).is_relative())
-      state->state_file = beside(cfg, "state_file", "");
+    // "" (the default) keeps no state; a relative name is taken beside the configuration.
+    const std::string state_file = cfg ? cfg->get<std::string>("state_file", "") : "";
+    state->state_file = state_file.empty() ? "" : beside(cfg, "state_file", "");
     state->save_period = cfg ? cfg->get_number("save_period", 600.0, 1.0, 1e7) : 600.0;
   };
   spec.make = [state](const std::string& id) -> std::unique_ptr<TurbineDiagnoser> {

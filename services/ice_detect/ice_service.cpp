@@ -2,7 +2,6 @@
 #include "ice_service.hpp"
 
 #include <cmath>
-#include <filesystem>
 #include <memory>
 
 #include "Estimates.h"

@@ -1,7 +1,6 @@
 // windfdi-sensor-bias's service spec: one BiasEstimator per turbine, estimates at frame rate with corrected values.
 #include "sensor_bias_service.hpp"
 
-#include <filesystem>
 #include <memory>
 
 #include "Estimates.h"
@@ -61,12 +60,8 @@ ServiceSpec sensor_bias_spec() {
                            "corrected_pitch_2", "corrected_pitch_3", "bound_ratio", "aero_torque_input"};
   spec.configure = [state](const YamlSection* cfg) {
     const std::string deploy = WINDFDI_SOURCE_DEPLOY_DIR;
-    std::string turbine_file = deploy + "/turbine/benchmark_4.8MW.yaml";
-    if (cfg && cfg->has("turbine_file")) {
-      const std::filesystem::path f = cfg->get<std::string>("turbine_file", turbine_file);
-      turbine_file = f.is_relative() ? (std::filesystem::path(cfg->file()).parent_path() / f).string() : f.string();
-    }
-    state->turbine = load_turbine_params_file(turbine_file);
+    const std::string turbine_file = deploy + "/turbine/benchmark_4.8MW.yaml";
+    state->turbine = load_turbine_params_file(cfg ? cfg->get_path("turbine_file", turbine_file) : turbine_file);
     const YamlSection defaults(YAML::Node(YAML::NodeType::Map), "(defaults)");
     state->config = load_bias_config(cfg ? *cfg : defaults, deploy + "/sensor_bias");
     state->drive_train = load_gain_file(state->config.drive_train_gain_file);

@@ -52,16 +52,12 @@ std::vector<PitchEvent> diagnose(const PitchDiagConfig& cfg, const std::vector<F
 // see the fault, so the 10 s target is also measured from here. The time (s), NaN when not within the recording.
 double first_information(const std::vector<FrameSample>& rec, int blade, double t_on, const Signature& healthy,
                          const Signature& fault) {
-  struct Actuator {
-    double x = 0, v = 0;
-    void step(double u, double dt, double wn, double zeta) {
-      for (int k = 0; k < 10; ++k) {  // semi-implicit Euler at dt / 10: exact enough for a 3 sigma test
-        v += (wn * wn * (u - x) - 2.0 * zeta * wn * v) * dt / 10.0;
-        x += v * dt / 10.0;
-      }
-    }
+  // The plant's own actuator (RK4, with the turbine's rate and angle limits), one per hypothesis.
+  const TurbineParams p;
+  plant::PitchActuator h, f;
+  auto step = [&](plant::PitchActuator& a, double u, double dt, const Signature& sig) {
+    a.step(u, dt, sig.omega_n, sig.zeta, p.pitch_rate_limit, p.pitch_min, p.pitch_max);
   };
-  Actuator h, f;
   bool started = false;
   double evidence = 0.0;
   for (std::size_t k = 1; k < rec.size(); ++k) {
@@ -69,14 +65,14 @@ double first_information(const std::vector<FrameSample>& rec, int blade, double 
     if (s.t < t_on) continue;
     const double u = s.pitch_ref[static_cast<std::size_t>(blade)];
     if (!started) {
-      h.x = f.x = u;
+      h.angle = f.angle = u;
       started = true;
       continue;
     }
     const double dt = s.t - rec[k - 1].t;
-    h.step(u, dt, healthy.omega_n, healthy.zeta);
-    f.step(u, dt, fault.omega_n, fault.zeta);
-    evidence += std::pow((h.x - f.x) / 0.2, 2);
+    step(h, u, dt, healthy);
+    step(f, u, dt, fault);
+    evidence += std::pow((h.angle - f.angle) / 0.2, 2);
     if (evidence >= 25.0) return s.t;
   }
   return NAN;

@@ -24,9 +24,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   BiasConfig c;
   c.mode = s.get_choice("mode", "observer", {"observer", "paper"}) == "paper" ? Mode::kPaper : Mode::kObserver;
   auto path = [&](const char* key, const std::string& fallback) {
-    if (!s.has(key)) return (std::filesystem::path(default_gain_dir) / fallback).string();
-    const std::filesystem::path f = s.get<std::string>(key, fallback);
-    return f.is_relative() ? (std::filesystem::path(s.file()).parent_path() / f).string() : f.string();
+    return s.get_path(key, (std::filesystem::path(default_gain_dir) / fallback).string());
   };
   if (c.mode == Mode::kObserver) {
     c.drive_train_gain_file = path("drive_train_gains", "gains_drive_train_observer.yaml");

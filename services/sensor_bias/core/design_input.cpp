@@ -1,5 +1,4 @@
 // windfdi-qb-design's input: explicit matrices, or the turbine's drive train / pitch model discretised.
-#include <filesystem>
 
 #include "design_input.hpp"
 
@@ -22,10 +21,8 @@ void model_from_turbine(const YamlSection& m, DesignInput& in) {
                         "augment_biases", "input_bound", "process_bound", "bias_rate_bound",
                         "measurement_bound", "omega_n", "zeta", "generator_speed_witness", "bias_model",
                         "bias_acceleration_bound"});
-  const std::filesystem::path f = m.require<std::string>("turbine_file");
-  const std::string turbine_file =
-      f.is_relative() ? (std::filesystem::path(m.file()).parent_path() / f).string() : f.string();
-  const TurbineParams p = load_turbine_params_file(turbine_file);
+  m.require<std::string>("turbine_file");  // names file and key when it is missing
+  const TurbineParams p = load_turbine_params_file(m.get_path("turbine_file", ""));
   in.subsystem = m.get_choice("subsystem", "drive_train", {"drive_train", "pitch"});
   in.sample_time = m.get_number("sample_time", 0.01, 1e-4, 1.0);
   const std::string disc = m.get_choice("discretisation", "zoh", {"zoh", "euler"});
