@@ -1,7 +1,7 @@
 // Measures windfdi-ice-detect against its targets on the two-mass plant in turbulent wind, with the
 // aerodynamic power from the turbine model on the noisy anemometer (the DDS path): inertia error after
 // convergence, delay to flag a 5 % inertia increase and a 3 % shedding step, false alarms in healthy hours.
-// Usage: ice_detect_plant [healthy_seconds=3600] [seeds=3] [--config FILE]
+// Usage: ice_detect_plant [healthy_seconds=3600] [seeds=3] [--config FILE] [--events]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -17,8 +17,12 @@ using namespace windfdi::ice_detect;
 
 namespace {
 
+bool print_events = false;  // --events: every run's events, for a look at what went wrong
+
 struct Run {
   double rms = 0, max = 0;  // relative inertia error after `settled` s
+  double max_over = 0;      // largest overestimate after `settled` s (relative)
+  uint64_t power_changes = 0;  // steps in the aerodynamics the estimator saw
   std::vector<FaultEvent> events;
 };
 
@@ -34,21 +38,33 @@ Run run(const DetectorConfig& cfg, double wind, double seconds, const std::vecto
   t.ice_mass = ice;
   plant::TurbineSim sim(p, t, faults, seed, 100.0);
   IceDetector det(cfg, p);
+  AeroPowerInput aero_power(aero, cfg.wind_window, cfg.estimator.sample_time);
   Run r;
   InertiaOutput o;
   int n = 0;
   for (long k = 0; k < static_cast<long>(seconds * 100); ++k) {
     FrameSample s = sim.step();
     s.aero_power = kNaN;  // as on DDS: from the model on the anemometer, rotor speed and pitch
-    det.update(s, aero_power_of(s, aero), false, r.events);
+    FrameSample centre;
+    bool gap = false;
+    double power = kNaN;
+    if (!aero_power.push(s, false, centre, gap, power)) continue;
+    det.update(centre, power, gap, r.events);
+    // The truth of now against the estimate of half a wind window ago: the delay is part of the error.
     if (det.estimate_due(o) && s.t > settled && o.inertia > 0.0) {
       const double e = o.inertia / sim.truth().inertia - 1.0;
       r.rms += e * e;
       r.max = std::max(r.max, std::fabs(e));
+      r.max_over = std::max(r.max_over, e);
       ++n;
     }
   }
   r.rms = std::sqrt(r.rms / std::max(n, 1));
+  r.power_changes = det.estimator().power_changes();
+  if (print_events)
+    for (const auto& e : r.events)
+      std::printf("  wind %.0f seed %lu: %.0f %s %s %s %s\n", wind, (unsigned long)seed, e.t, e.fault.c_str(),
+                  e.raised ? "raised" : "cleared", e.severity.c_str(), e.detail.c_str());
   return r;
 }
 
@@ -62,13 +78,14 @@ std::string stats(std::vector<double> v) {
   int missed = 0;
   std::vector<double> ok;
   for (double x : v) std::isfinite(x) ? ok.push_back(x) : (void)++missed;
-  char buf[96];
+  char buf[128];
   if (ok.empty()) {
     std::snprintf(buf, sizeof buf, "none of %zu", v.size());
   } else {
     std::sort(ok.begin(), ok.end());
-    std::snprintf(buf, sizeof buf, "median %.0f s, max %.0f s, missed %d of %zu", ok[ok.size() / 2],
-                  ok.back(), missed, v.size());
+    const auto within = std::count_if(ok.begin(), ok.end(), [](double x) { return x <= 60.0; });
+    std::snprintf(buf, sizeof buf, "median %.0f s, max %.0f s, %ld within 60 s, missed %d of %zu",
+                  ok[ok.size() / 2], ok.back(), static_cast<long>(within), missed, v.size());
   }
   return buf;
 }
@@ -83,6 +100,8 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     if (std::string(argv[i]) == "--config" && i + 1 < argc) {
       config_file = argv[++i];
+    } else if (std::string(argv[i]) == "--events") {
+      print_events = true;
     } else {
       positional.push_back(argv[i]);
     }
@@ -141,25 +160,52 @@ int main(int argc, char** argv) {
   std::printf("3 %% shedding step (%.0f kg of 3000 kg) at 8/10/12 m/s: flagged %s after the drop\n",
               0.03 * kg_per_share, stats(shedding).c_str());
 
+  // Fast accretion: 2.5 t in a minute (a freezing-rain front) also takes 5 % of Cp at once, which the power
+  // model's calibration must follow without the inertia overshooting into a false critical.
+  {
+    double worst_over = 0;
+    int critical = 0, runs = 0;
+    for (double wind : {8.0, 10.0, 12.0})
+      for (int s = 0; s < seeds; ++s) {
+        plant::FaultSpec f;
+        f.turbine = "WT01";
+        f.target = "rotor";
+        f.type = "ice_accretion";
+        f.value = 2500.0;
+        f.has_value = true;
+        f.ramp_in = 60;
+        f.start = 500;
+        const Run r = run(cfg, wind, 1500, {f}, 0.0, 650 + 10 * s + static_cast<uint64_t>(wind), 500.0);
+        worst_over = std::max(worst_over, r.max_over);
+        for (const auto& e : r.events) critical += e.raised && e.severity == "critical";
+        ++runs;
+      }
+    std::printf("fast accretion (2500 kg in 60 s at 500 s, 8/10/12 m/s): worst overestimate %.1f %% of the true inertia, "
+                "%d critical of %d runs\n",
+                100 * worst_over, critical, runs);
+  }
+
   std::printf("\nfalse alarms in %.0f s healthy:", healthy_seconds);
   for (double wind : {8.0, 12.0, 16.0, 20.0}) {
-    int raised = 0;
-    for (int s = 0; s < seeds; ++s)
-      for (const auto& e :
-           run(cfg, wind, healthy_seconds, {}, 0.0, 800 + 10 * s + static_cast<uint64_t>(wind)).events)
-        raised += e.raised;
-    std::printf(" %.0f m/s: %d;", wind, raised);
+    int raised = 0, steps = 0;
+    for (int s = 0; s < seeds; ++s) {
+      const Run r = run(cfg, wind, healthy_seconds, {}, 0.0, 800 + 10 * s + static_cast<uint64_t>(wind));
+      for (const auto& e : r.events) raised += e.raised;
+      steps += static_cast<int>(r.power_changes);
+    }
+    std::printf(" %.0f m/s: %d (%d Cp steps);", wind, raised, steps);
   }
   std::printf(" (over %d seeds each)\n", seeds);
   // Shedding can only be reported where ice is: its false alarms come from a steadily iced rotor.
   std::printf("false ice_shedding in %.0f s with 3000 kg of ice that stays:", healthy_seconds);
   for (double wind : {8.0, 10.0, 12.0}) {
-    int raised = 0;
-    for (int s = 0; s < seeds; ++s)
-      for (const auto& e :
-           run(cfg, wind, healthy_seconds, {}, 3000.0, 900 + 10 * s + static_cast<uint64_t>(wind)).events)
-        raised += e.raised && e.fault == "ice_shedding";
-    std::printf(" %.0f m/s: %d;", wind, raised);
+    int raised = 0, steps = 0;
+    for (int s = 0; s < seeds; ++s) {
+      const Run r = run(cfg, wind, healthy_seconds, {}, 3000.0, 900 + 10 * s + static_cast<uint64_t>(wind));
+      for (const auto& e : r.events) raised += e.raised && e.fault == "ice_shedding";
+      steps += static_cast<int>(r.power_changes);
+    }
+    std::printf(" %.0f m/s: %d (%d Cp steps);", wind, raised, steps);
   }
   std::printf(" (over %d seeds each)\n", seeds);
   return 0;

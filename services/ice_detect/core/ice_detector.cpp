@@ -12,9 +12,10 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
                         "clean_inertia", "learn_time", "median_estimates", "ice_radius", "warning_mass",
                         "fault_mass", "critical_mass", "confirm_time", "clear_time", "clear_ratio", "shed_window",
                         "shed_reinit", "shed_min_excitation", "shed_median", "shed_confirm", "shed_fraction", "shed_min_ice", "shed_hold",
-                        "min_generator_speed", "min_gen_torque", "max_pitch", "turbine_file"});
+                        "min_generator_speed", "min_gen_torque", "max_pitch", "wind_window", "power_window", "power_step_window", "power_step", "shed_power_step", "turbine_file"});
   DetectorConfig c;
   c.ice_radius = turbine.ice_radius;
+  c.ice_cp_loss = turbine.ice_cp_loss;
   c.gear_ratio = turbine.gear_ratio;
   c.estimator.power_gain = turbine.drive_train_efficiency;
   c.estimator.friction = turbine.generator_friction;
@@ -24,8 +25,13 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
   e.reinit_period = s.get_number("reinit_period", e.reinit_period, 0.5, 3600.0);
   e.filter_time = s.get_number("filter_time", e.filter_time, 0.0, 30.0);
   e.min_excitation = s.get_number("min_excitation", e.min_excitation, 0.0, 100.0);
+  e.power_window = s.get_number("power_window", e.power_window, 0.0, 3600.0);
+  e.power_step_window = s.get_number("power_step_window", e.power_step_window, 10.0, e.power_window);
+  e.power_step = s.get_number("power_step", e.power_step, 0.0, 0.5);
+  c.shed_power_step = s.get_number("shed_power_step", c.shed_power_step, 0.0, 0.5);
   e.power_gain = s.get_number("power_gain", e.power_gain, 0.5, 1.0);
   e.friction = s.get_number("friction", e.friction, 0.0, 1e4);
+  c.wind_window = s.get_number("wind_window", c.wind_window, 0.0, 10.0);
   c.clean_inertia = s.get_number("clean_inertia", c.clean_inertia, 0.0, 1e9);
   c.learn_time = s.get_number("learn_time", c.learn_time, 0.0, 1e6);
   c.median_estimates = s.get_number("median_estimates", c.median_estimates, 1.0, 600.0);
@@ -122,7 +128,11 @@ double median(std::vector<double> v) {
 void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   out_.t = t;
   out_.excited = estimator_.excited();
-  if (estimator_.excited() && estimator_.inertia() > 0.0) {
+  // A step in the aerodynamics restarted the regression; the median keeps the estimates from before it (clearing
+  // it gave a false alarm at 20 m/s, where the balance steps several times an hour, for 40 s less delay).
+  const bool cp_step = estimator_.power_changes() > power_changes_seen_;
+  power_changes_seen_ = estimator_.power_changes();
+  if (estimator_.excited() && estimator_.inertia() > 0.0 && !estimator_.power_unsettled()) {
     recent_.push_back(estimator_.inertia());
     while (recent_.size() > static_cast<std::size_t>(cfg_.median_estimates)) recent_.pop_front();
   }
@@ -145,28 +155,47 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   // Shedding: the fast estimate falls shed_fraction of J0 below the slow one (which still remembers the
   // minute before), with ice there to shed.
   // Only a live fast estimate counts: a held one (calm, a stopped turbine) says nothing about now.
-  if (fast_.excited() && fast_.inertia() > 0.0) {
+  // While the aerodynamics may be changing, its estimates are held out (and the drop judged on the last ones).
+  if (!fast_.excited() || fast_.inertia() <= 0.0) {
+    fast_recent_.clear();
+  } else if (!fast_.power_unsettled()) {
     fast_recent_.push_back(fast_.inertia());
     while (fast_recent_.size() > static_cast<std::size_t>(cfg_.shed_median)) fast_recent_.pop_front();
-  } else {
-    fast_recent_.clear();
   }
   const double fast = fast_recent_.empty() ? 0.0 : median(std::vector<double>(fast_recent_.begin(), fast_recent_.end()));
   const double drop = out_.inertia - fast;
   // Only ice that was reported can fall off: without it a drop is estimation noise.
-  const bool dropping = fast > 0.0 && drop >= cfg_.shed_fraction * j0_ && out_.ice_mass >= cfg_.shed_min_ice &&
-                        raised_level_ > 0;
+  const bool iced = out_.ice_mass >= cfg_.shed_min_ice && raised_level_ > 0;
+  // After a shedding the slow estimate needs a window and a median to come down: until then its lag is no drop.
+  const bool settled = shed_last_ < 0.0 || t - shed_last_ >= cfg_.estimator.window + cfg_.median_estimates;
+  const bool dropping = fast > 0.0 && drop >= cfg_.shed_fraction * j0_ && iced && settled;
   if (!dropping) shed_since_ = -1.0;
   if (dropping && shed_since_ < 0.0) shed_since_ = t;
-  if (shed_raised_at_ < 0.0 && dropping && t - shed_since_ >= cfg_.shed_confirm) {
-    shed_raised_at_ = t;
-    FaultEvent e = rotor_event("ice_shedding", true, "warning", t, shed_since_);
-    e.statistic = drop / j0_;
-    e.threshold = cfg_.shed_fraction;
-    e.size = drop * mass_per_inertia_;
-    char detail[160];
-    std::snprintf(detail, sizeof detail, "inertia fell %.1f %% of J0 (fast %.0f vs slow %.0f kg m^2): about %.0f kg shed",
-                  100.0 * drop / j0_, fast, out_.inertia, e.size);
+  // The aerodynamic signature of the same event: ice that falls off gives back the Cp it took, a step up of
+  // the power model's calibration (the estimator restarts on it, so the inertia drop itself is confirmed
+  // only a window later).
+  const bool cp_recovered = cp_step && cfg_.shed_power_step > 0.0 && estimator_.last_step_from_settled() &&
+                            estimator_.last_power_step() >= cfg_.shed_power_step && iced;
+  if (shed_raised_at_ < 0.0 && (cp_recovered || (dropping && t - shed_since_ >= cfg_.shed_confirm))) {
+    shed_raised_at_ = shed_last_ = t;
+    FaultEvent e = rotor_event("ice_shedding", true, "warning", t, cp_recovered ? t : shed_since_);
+    char detail[200];
+    if (cp_recovered) {
+      // Size from the Cp recovered, at the turbine's Cp loss per tonne of ice.
+      e.statistic = estimator_.last_power_step();
+      e.threshold = cfg_.shed_power_step;
+      e.size = cfg_.ice_cp_loss > 0.0 ? 1000.0 * e.statistic / cfg_.ice_cp_loss : 0.0;
+      std::snprintf(detail, sizeof detail,
+                    "power coefficient recovered %.1f %% within a minute with %.0f kg of ice reported: about %.0f kg shed",
+                    100.0 * e.statistic, out_.ice_mass, e.size);
+    } else {
+      e.statistic = drop / j0_;
+      e.threshold = cfg_.shed_fraction;
+      e.size = drop * mass_per_inertia_;
+      std::snprintf(detail, sizeof detail,
+                    "inertia fell %.1f %% of J0 (fast %.0f vs slow %.0f kg m^2): about %.0f kg shed",
+                    100.0 * drop / j0_, fast, out_.inertia, e.size);
+    }
     e.detail = detail;
     events.push_back(e);
   } else if (shed_raised_at_ >= 0.0 && t - shed_raised_at_ >= cfg_.shed_hold) {

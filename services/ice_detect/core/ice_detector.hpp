@@ -15,6 +15,7 @@ namespace windfdi::ice_detect {
 
 struct DetectorConfig {
   EstimatorConfig estimator;
+  double wind_window = 0.5;         ///< s, centred average of the anemometer before the power model (0: none)
   double clean_inertia = 0.0;       ///< kg m^2 generator side, J0; 0: the turbine's lumped inertia
   double learn_time = 0.0;          ///< s; > 0: learn J0 as the median estimate over this time instead
   double median_estimates = 61;     ///< 1 Hz estimates in the running median that is reported
@@ -26,12 +27,14 @@ struct DetectorConfig {
   double confirm_time = 10.0;       ///< s a level must hold before it is raised
   double clear_time = 30.0;         ///< s below the clear level before a raised level clears
   double clear_ratio = 0.7;         ///< a level clears below this share of its threshold (hysteresis)
+  double shed_power_step = 0.01;    ///< rise of the power model's calibration in one step that is shedding (0: off)
+  double ice_cp_loss = 0.02;        ///< share of Cp an iced rotor loses per tonne (sizes a shedding from its Cp)
   double shed_window = 45.0;        ///< s, window of the fast estimator that watches for shedding
   double shed_reinit = 10.0;        ///< s between its initialisation events
   double shed_min_excitation = 0.5; ///< rad/s, excitation the fast estimator needs (its estimates are noisier)
   double shed_median = 15;          ///< 1 Hz fast estimates in its running median
-  double shed_confirm = 30.0;       ///< s the drop must hold
-  double shed_fraction = 0.025;     ///< drop of the fast estimate below the slow one, share of J0, for ice_shedding
+  double shed_confirm = 45.0;       ///< s the drop must hold
+  double shed_fraction = 0.04;      ///< drop of the fast estimate below the slow one, share of J0, for ice_shedding
   double shed_min_ice = 500.0;      ///< kg of ice that must be estimated, with ice_accretion raised, to shed
   double shed_hold = 60.0;          ///< s an ice_shedding report stays raised
   double min_generator_speed = 30.0;  ///< rad/s below which the estimator is not fed (standstill)
@@ -87,6 +90,8 @@ class IceDetector {
   int raised_level_ = 0;
   double above_since_ = -1.0, below_since_ = -1.0;
   double shed_raised_at_ = -1.0;
+  uint64_t power_changes_seen_ = 0;
+  double shed_last_ = -1.0;  // time the last shedding was raised
   uint64_t rejected_ = 0;
 };
 

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <random>
+#include <tuple>
 
 #include "ice_detector.hpp"
 #include "ice_service.hpp"
@@ -68,15 +69,50 @@ TEST(InertiaEstimator, HoldsTheEstimateWithoutTransients) {
   EXPECT_NEAR(held, first, 0.01 * first);
 }
 
+TEST(InertiaEstimator, AStepInCpRecalibratesAndRestartsTheRegression) {
+  // GIVEN the one-mass model with gusts and a power model 1/0.975 too high, whose rotor loses 5 % of its Cp at
+  // 500 s (the generator torque follows, as a speed controller would)
+  const double J = 6484.0, dt = 0.01;
+  EstimatorConfig c;
+  c.power_gain = 1.0;
+  c.friction = 0.0;
+  c.filter_time = 0.0;
+  InertiaEstimator est(c);
+  double omega = 150.0;
+  uint64_t estimates_at_step = 0;
+  for (int k = 0; k < 90000; ++k) {
+    const double t = k * dt;
+    const double cp = t < 500.0 ? 1.0 : 0.95;
+    const double tg = 30000.0 * cp;
+    const double model_power = omega * (30000.0 + 3000.0 * std::sin(0.3 * t) + 1500.0 * std::sin(1.1 * t + 1.0)) / 0.975;
+    est.update(omega, model_power, tg);
+    if (k == 50000) estimates_at_step = est.estimates();
+    // THEN within two minutes of the step it is seen once, as a 5 % loss ...
+    if (k == 62000) {
+      EXPECT_EQ(est.power_changes(), 1u);
+      EXPECT_NEAR(est.last_power_step(), -0.05, 0.005);
+    }
+    for (int s = 0; s < 10; ++s) omega += (0.975 * cp * model_power / omega - tg) / J * dt / 10.0;
+  }
+  // ... the calibration follows the new aerodynamics (0.975 * 0.95), nothing else is seen as a step ...
+  EXPECT_EQ(est.power_changes(), 1u);
+  EXPECT_NEAR(est.power_scale(), 0.975 * 0.95, 0.002);
+  EXPECT_GT(estimates_at_step, 0u);
+  // ... and once the regression has refilled its window on the new aerodynamics, J is right again
+  ASSERT_TRUE(est.excited());
+  EXPECT_NEAR(est.inertia(), J, 0.01 * J);
+}
+
 // Runs the detector on a plant turbine; `model_power`: aerodynamic power from the model on measured wind,
 // rotor speed and pitch (the DDS path) instead of the recording's true value.
 struct PlantRun {
   double rms = 0, max = 0;
+  double max_over = 0;  // largest relative overestimate after 300 s
   std::vector<FaultEvent> events;
 };
 
 PlantRun run_plant(double wind, int seconds, bool model_power, const std::vector<plant::FaultSpec>& faults = {},
-                   double ice = 0.0, uint64_t seed = 7) {
+                   double ice = 0.0, uint64_t seed = 7, const YamlSection& config = defaults()) {
   TurbineParams p;
   AeroModel aero(p);
   plant::TurbineScenario t;
@@ -86,18 +122,28 @@ PlantRun run_plant(double wind, int seconds, bool model_power, const std::vector
   t.wind.shear_variation = 0.05;
   t.ice_mass = ice;
   plant::TurbineSim sim(p, t, faults, seed, 100.0);
-  IceDetector det(load_detector_config(defaults(), p), p);
+  const DetectorConfig cfg = load_detector_config(config, p);
+  IceDetector det(cfg, p);
+  AeroPowerInput aero_power(aero, cfg.wind_window, cfg.estimator.sample_time);
   PlantRun r;
   InertiaOutput o;
   int n = 0;
   for (int k = 0; k < seconds * 100; ++k) {
     FrameSample s = sim.step();
-    const double power = model_power ? (s.aero_power = kNaN, aero_power_of(s, aero)) : sim.truth().aero_power;
+    double power = sim.truth().aero_power;
+    if (model_power) {
+      FrameSample centre;
+      bool gap = false;
+      s.aero_power = kNaN;
+      if (!aero_power.push(s, false, centre, gap, power)) continue;
+      s = centre;
+    }
     det.update(s, power, false, r.events);
     if (det.estimate_due(o) && s.t > 300.0 && o.inertia > 0.0) {
       const double e = o.inertia / sim.truth().inertia - 1.0;
       r.rms += e * e;
       r.max = std::max(r.max, std::fabs(e));
+      r.max_over = std::max(r.max_over, e);
       ++n;
     }
   }
@@ -157,20 +203,73 @@ TEST(IceDetector, AccretionRampIsFlaggedAndSized) {
   EXPECT_LT(load_detector_config(defaults(), TurbineParams{}).warning_mass, 1830.0);
 }
 
-TEST(IceDetector, SheddingOfIceThatWasThereIsFlagged) {
-  // GIVEN 3000 kg of ice of which 40 % (1200 kg, -3.3 % inertia) falls off at 700 s, at 10 m/s
+plant::FaultSpec shedding(double fraction, double start) {
   plant::FaultSpec f;
   f.turbine = "WT01";
   f.target = "rotor";
   f.type = "ice_shedding";
-  f.fraction = 0.4;
-  f.start = 700;
-  const auto r = run_plant(10.0, 1000, true, {f}, 3000.0, 35);
-  // THEN ice_shedding is raised within 120 s of the drop (the 60 s target is not met yet)
-  bool found = false;
+  f.fraction = fraction;
+  f.start = start;
+  return f;
+}
+
+std::string describe(const PlantRun& r) {
+  std::string out;
   for (const auto& e : r.events)
-    if (e.fault == "ice_shedding" && e.raised && e.t >= 700.0 && e.t < 820.0) found = true;
-  EXPECT_TRUE(found);
+    out += std::to_string(static_cast<int>(e.t)) + " s " + e.fault + (e.raised ? " raised " : " cleared ") + e.severity +
+           ": " + e.detail + "\n";
+  return out;
+}
+
+// The first ice_shedding raised in [from, to), or nullptr.
+const FaultEvent* shedding_raised(const PlantRun& r, double from, double to) {
+  for (const auto& e : r.events)
+    if (e.fault == "ice_shedding" && e.raised && e.t >= from && e.t < to) return &e;
+  return nullptr;
+}
+
+TEST(IceDetector, SheddingOfIceThatWasThereIsFlaggedWithinAMinute) {
+  // GIVEN 3000 kg of ice of which 40 % (1200 kg, -3.3 % inertia, +2.4 % Cp) falls off at 700 s
+  // (tests/perf/ice_detect_plant: 8 of 9 runs within 60 s; the ninth, at 8 m/s, 96 s: the Cp comes back
+  // over a minute and a half there while the rotor speeds up to its new operating point, as seed 37 here)
+  for (const auto& [wind, seed, limit] : {std::tuple{10.0, 35, 60.0}, {12.0, 36, 60.0}, {10.0, 37, 90.0}}) {
+    const auto r = run_plant(wind, 1000, true, {shedding(0.4, 700)}, 3000.0, seed);
+    // THEN ice_shedding is raised within 60 s of the drop (by the Cp it gives back), and not before it
+    const FaultEvent* e = shedding_raised(r, 700.0, 700.0 + limit);
+    ASSERT_NE(e, nullptr) << wind << " m/s seed " << seed << "\n" << describe(r);
+    EXPECT_NE(e->detail.find("power coefficient recovered"), std::string::npos) << e->detail;
+    EXPECT_EQ(shedding_raised(r, 0.0, 700.0), nullptr);
+  }
+}
+
+TEST(IceDetector, SheddingIsSeenInTheInertiaAloneToo) {
+  // GIVEN the Cp witness off and 90 % of 3000 kg (-7.5 % inertia) falling off at 700 s, at 10 m/s
+  const auto r = run_plant(10.0, 1100, true, {shedding(0.9, 700)}, 3000.0, 35,
+                           YamlSection(YAML::Load("shed_power_step: 0"), "x.yaml"));
+  // THEN the fast inertia estimate's drop raises ice_shedding within 3 minutes
+  const FaultEvent* e = shedding_raised(r, 700.0, 880.0);
+  ASSERT_NE(e, nullptr) << describe(r);
+  EXPECT_NE(e->detail.find("inertia fell"), std::string::npos) << e->detail;
+}
+
+TEST(IceDetector, FastAccretionDoesNotOvershootIntoCritical) {
+  // GIVEN 2500 kg of ice in one minute from 500 s (freezing rain; -5 % Cp with it) at 10 m/s. Before the
+  // power model followed steps in Cp, the regression window across the step reported +17 % inertia
+  // (9246 kg of ice: critical, the arbiter stopped the turbine).
+  plant::FaultSpec f;
+  f.turbine = "WT01";
+  f.target = "rotor";
+  f.type = "ice_accretion";
+  f.value = 2500;
+  f.has_value = true;
+  f.ramp_in = 60;
+  f.start = 500;
+  for (uint64_t seed : {7u, 8u}) {
+    const auto r = run_plant(10.0, 1200, true, {f}, 0.0, seed);
+    // THEN the inertia never reads more than 5 % above the truth, and no critical is raised
+    EXPECT_LT(r.max_over, 0.05) << seed;
+    for (const auto& e : r.events) EXPECT_NE(e.severity, "critical") << seed << " at " << e.t << ": " << e.detail;
+  }
 }
 
 TEST(IceDetector, BadSamplesAreCountedAndNeverFed) {
@@ -192,18 +291,57 @@ TEST(IceDetector, BadSamplesAreCountedAndNeverFed) {
   EXPECT_EQ(det.estimator().estimates(), 0u);
 }
 
-TEST(IceDetector, ModelPowerIsNanForMissingInputs) {
+TEST(AeroPowerInput, ModelPowerIsNanForMissingInputs) {
   TurbineParams p;
   AeroModel aero(p);
   FrameSample s;
   s.wind_hub = 10.0;
   s.rotor_speed = 1.3;
   s.pitch = {0.0, 0.0, 0.0};
-  EXPECT_GT(aero_power_of(s, aero), 1e6);
+  EXPECT_GT(model_aero_power(aero, 10.0, s), 1e6);
   s.pitch[1] = kNaN;
-  EXPECT_TRUE(std::isnan(aero_power_of(s, aero)));
-  s.aero_power = 2e6;  // a recording's column wins
-  EXPECT_DOUBLE_EQ(aero_power_of(s, aero), 2e6);
+  EXPECT_TRUE(std::isnan(model_aero_power(aero, 10.0, s)));
+  EXPECT_TRUE(std::isnan(model_aero_power(aero, kNaN, s)));
+  // Without averaging every sample comes straight out, and a recording's column wins over the model.
+  AeroPowerInput direct(aero, 0.0, 0.01);
+  FrameSample out;
+  bool gap = false;
+  double power = 0.0;
+  ASSERT_TRUE(direct.push(s, true, out, gap, power));
+  EXPECT_TRUE(std::isnan(power));
+  EXPECT_TRUE(gap);
+  s.aero_power = 2e6;
+  ASSERT_TRUE(direct.push(s, false, out, gap, power));
+  EXPECT_DOUBLE_EQ(power, 2e6);
+}
+
+TEST(AeroPowerInput, AveragesTheAnemometerAroundEachSampleAndLosesNone) {
+  // GIVEN a steady 10 m/s wind read by an anemometer that alternates +-1 m/s about it, and a 0.5 s window
+  TurbineParams p;
+  AeroModel aero(p);
+  AeroPowerInput input(aero, 0.5, 0.01);
+  FrameSample s;
+  s.rotor_speed = 1.3;
+  s.pitch = {0.0, 0.0, 0.0};
+  const double steady = model_aero_power(aero, 10.0, s);
+  std::vector<double> t_out;
+  for (int k = 0; k < 1000; ++k) {
+    s.t = k * 0.01;
+    s.wind_hub = 10.0 + (k % 2 ? 1.0 : -1.0);
+    FrameSample out;
+    bool gap = false;
+    double power = kNaN;
+    if (!input.push(s, false, out, gap, power)) continue;
+    t_out.push_back(out.t);
+    // THEN once the window is full each sample's power is the model at the mean wind (the window holds 51
+    // samples: the mean is 10 +- 1/51)
+    if (out.t > 0.3) {
+      EXPECT_NEAR(power, steady, 0.03 * steady) << out.t;
+    }
+  }
+  // AND every sample leaves, in order, a quarter of a second late
+  ASSERT_EQ(t_out.size(), 975u);
+  for (std::size_t i = 0; i < t_out.size(); ++i) EXPECT_NEAR(t_out[i], i * 0.01, 1e-9);
 }
 
 TEST(IceDetector, ConfigRejectsUnknownKeysAndBadRanges) {
@@ -227,7 +365,9 @@ TEST(IceDetector, AStoppingTurbineRaisesNoIce) {
   t.wind.mean = 16.0;
   t.wind.turbulence_intensity = 0.12;
   plant::TurbineSim sim(p, t, {}, 11, 100.0);
-  IceDetector det(load_detector_config(defaults(), p), p);
+  const DetectorConfig cfg = load_detector_config(defaults(), p);
+  IceDetector det(cfg, p);
+  AeroPowerInput aero_power(aero, cfg.wind_window, cfg.estimator.sample_time);
   std::vector<FaultEvent> events;
   InertiaOutput o;
   plant::ControlInput stop;
@@ -235,7 +375,10 @@ TEST(IceDetector, AStoppingTurbineRaisesNoIce) {
   for (int k = 0; k < 1500 * 100; ++k) {
     FrameSample s = k < 60000 ? sim.step() : sim.step(stop);
     s.aero_power = kNaN;
-    det.update(s, aero_power_of(s, aero), false, events);
+    FrameSample centre;
+    bool gap = false;
+    double power = kNaN;
+    if (aero_power.push(s, false, centre, gap, power)) det.update(centre, power, gap, events);
     det.estimate_due(o);
   }
   // THEN the stop is not mistaken for ice (or its shedding)
