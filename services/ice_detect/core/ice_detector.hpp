@@ -34,7 +34,7 @@ struct DetectorConfig {
   double shed_min_excitation = 0.5; ///< rad/s, excitation the fast estimator needs (its estimates are noisier)
   double shed_median = 15;          ///< 1 Hz fast estimates in its running median
   double shed_confirm = 45.0;       ///< s the drop must hold
-  double shed_fraction = 0.04;      ///< drop of the fast estimate below the slow one, share of J0, for ice_shedding
+  double shed_fraction = 0.05;      ///< drop of the fast estimate below the slow one, share of J0, for ice_shedding
   double shed_min_ice = 500.0;      ///< kg of ice that must be estimated, with ice_accretion raised, to shed
   double shed_hold = 60.0;          ///< s an ice_shedding report stays raised
   double min_generator_speed = 30.0;  ///< rad/s below which the estimator is not fed (standstill)

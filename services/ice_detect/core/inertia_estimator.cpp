@@ -76,11 +76,13 @@ void InertiaEstimator::calibrate() {
   const double threshold = std::max(cfg_.power_step, cfg_.power_step_sigmas * std::sqrt(power_wander_));
   power_unsettled_ = std::fabs(departure) > 0.5 * threshold;
   if (std::fabs(departure) <= threshold) {
-    power_wander_ += (departure * departure - power_wander_) / std::max(1.0, cfg_.power_wander_time);
+    // Only the quiet seconds teach the wandering: a step on its way up would raise its own threshold.
+    if (!power_unsettled_)
+      power_wander_ += (departure * departure - power_wander_) / std::max(1.0, cfg_.power_wander_time);
   } else {
     last_power_step_ = departure;
     scale_before_step_ = before;
-    last_step_from_settled_ = span >= seconds_.size();
+    last_step_from_settled_ = span >= 3 * step_seconds;
     // Seen early (just past the threshold), the step may still be part of the recent window: the
     // calibration starts afresh from here and, until it has a step window, keeps the recent balance.
     scale_ = recent;

@@ -50,7 +50,7 @@ class InertiaEstimator {
   /// The last step's relative change of the calibration (> 0: more power than before, e.g. ice shed): as first
   /// seen, then, a step window later, as measured on the new aerodynamics alone.
   double last_power_step() const { return last_power_step_; }
-  /// True when the last step left a calibration that had held a whole power window (not the recovery from a
+  /// True when the last step left a calibration that had held three step windows (not the recovery from a
   /// transient dip).
   bool last_step_from_settled() const { return last_step_from_settled_; }
   /// True while the recent energy balance is half way to a step: the aerodynamics may be changing, and a
