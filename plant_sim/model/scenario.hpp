@@ -3,6 +3,7 @@
 
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "turbine_params.hpp"
@@ -42,6 +43,22 @@ struct FaultSpec {
   double alpha = 1.0;        ///< pitch actuator: final fault indicator (0..1)
   double fraction = 1.0;     ///< ice shedding: share of the ice that falls off
   std::string label() const { return target + ":" + type; }
+
+  /// A fault of `type` on `target` of `turbine` from `start` (s), the rest at its defaults, as a scenario file
+  /// with only those keys would give it.
+  static FaultSpec make(std::string turbine, std::string target, std::string type, double start) {
+    FaultSpec f;
+    f.turbine = std::move(turbine);
+    f.target = std::move(target);
+    f.type = std::move(type);
+    f.start = start;
+    return f;
+  }
+  FaultSpec& with_value(double v) {
+    value = v;
+    has_value = true;
+    return *this;
+  }
 };
 
 struct TurbineScenario {

@@ -25,6 +25,9 @@ struct ReplayCase {
   const char* component;
 };
 
+// gtest (and the ctest names) print a case by its scenario, not its bytes.
+void PrintTo(const ReplayCase& c, std::ostream* os) { *os << c.scenario; }
+
 class SensorBiasReplay : public ::testing::TestWithParam<ReplayCase> {};
 
 TEST_P(SensorBiasReplay, PlantRecordingRaisesTheBiasedSensorOnlyAfterTheOnset) {
@@ -66,7 +69,8 @@ TEST_P(SensorBiasReplay, PlantRecordingRaisesTheBiasedSensorOnlyAfterTheOnset) {
 INSTANTIATE_TEST_SUITE_P(Scenarios, SensorBiasReplay,
                          ::testing::Values(ReplayCase{"sensor_bias_rotor_speed.yaml", "rotor_speed_sensor"},
                                            ReplayCase{"sensor_bias_generator_speed.yaml", "generator_speed_sensor"},
-                                           ReplayCase{"sensor_bias_pitch.yaml", "pitch_sensor_2"}));
+                                           ReplayCase{"sensor_bias_pitch.yaml", "pitch_sensor_2"}),
+                         [](const auto& i) { return std::string(i.param.component); });
 
 TEST(SensorBiasReplayInput, MalformedRecordingExitsWithCode2NamingFileAndLine) {
   const std::string dir = temp_dir("sensor_bias_replay_bad");

@@ -136,22 +136,12 @@ int main(int argc, char** argv) {
   std::vector<double> accretion, shedding;
   for (double wind : {8.0, 10.0, 12.0})
     for (int s = 0; s < seeds; ++s) {
-      plant::FaultSpec f;
-      f.turbine = "WT01";
-      f.target = "rotor";
-      f.type = "ice_accretion";
-      f.value = 0.05 * kg_per_share;
-      f.has_value = true;
+      auto f = plant::FaultSpec::make("WT01", "rotor", "ice_accretion", 900).with_value(0.05 * kg_per_share);
       f.ramp_in = 60;
-      f.start = 900;
       accretion.push_back(first_raise(run(cfg, wind, 1500, {f}, 0.0, 600 + 10 * s), "ice_accretion", 900));
       // A 3 % shedding step: 3 t of ice, of which 3 % of J0 falls off at 900 s.
-      plant::FaultSpec shed;
-      shed.turbine = "WT01";
-      shed.target = "rotor";
-      shed.type = "ice_shedding";
+      auto shed = plant::FaultSpec::make("WT01", "rotor", "ice_shedding", 900);
       shed.fraction = 0.03 * kg_per_share / 3000.0;
-      shed.start = 900;
       shedding.push_back(
           first_raise(run(cfg, wind, 1200, {shed}, 3000.0, 700 + 10 * s), "ice_shedding", 900));
     }
@@ -167,14 +157,8 @@ int main(int argc, char** argv) {
     int critical = 0, runs = 0;
     for (double wind : {8.0, 10.0, 12.0})
       for (int s = 0; s < seeds; ++s) {
-        plant::FaultSpec f;
-        f.turbine = "WT01";
-        f.target = "rotor";
-        f.type = "ice_accretion";
-        f.value = 2500.0;
-        f.has_value = true;
+        auto f = plant::FaultSpec::make("WT01", "rotor", "ice_accretion", 500).with_value(2500.0);
         f.ramp_in = 60;
-        f.start = 500;
         const Run r = run(cfg, wind, 1500, {f}, 0.0, 650 + 10 * s + static_cast<uint64_t>(wind), 500.0);
         worst_over = std::max(worst_over, r.max_over);
         for (const auto& e : r.events) critical += e.raised && e.severity == "critical";

@@ -74,14 +74,10 @@ Loads run(const SensorFailure* fault, int policy, double delay, uint64_t seed) {
   std::vector<FaultSpec> faults;
   const double onset = 100.0;
   if (fault != nullptr) {
-    FaultSpec f;
-    f.turbine = "WT01";
-    f.target = "blade_moment_2";
-    f.type = fault->type;
+    auto f = FaultSpec::make("WT01", "blade_moment_2", fault->type, onset);
     f.gain = fault->gain;
     f.period = 20.0;
     f.duty = 0.3;
-    f.start = onset;
     faults.push_back(f);
   }
   TurbineSim sim(windfdi::TurbineParams{}, t, faults, seed, 100.0);

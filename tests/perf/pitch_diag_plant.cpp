@@ -115,11 +115,7 @@ int main(int argc, char** argv) {
   for (double wind : {14.0, 17.0, 20.0})
     for (const char* fault : {"pump_wear", "hydraulic_leakage", "high_air_content"})
       for (int blade = 0; blade < 3; ++blade) {
-        plant::FaultSpec f;
-        f.turbine = "WT01";
-        f.target = "pitch_actuator_" + std::to_string(blade + 1);
-        f.type = fault;
-        f.start = t_on;
+        auto f = plant::FaultSpec::make("WT01", "pitch_actuator_" + std::to_string(blade + 1), fault, t_on);
         fault_runs.push_back({fault, blade, wind, record(wind, t_on + 120.0, {f}, ++seed)});
       }
   std::map<double, std::vector<FrameSample>> healthy;

@@ -42,6 +42,9 @@ struct Row {
   const char* reason;
 };
 
+// gtest (and the ctest names) print a case by its name, not its bytes.
+void PrintTo(const Row& c, std::ostream* os) { *os << c.name; }
+
 class DecisionTable : public ::testing::TestWithParam<Row> {};
 
 TEST_P(DecisionTable, SingleFaultGivesTheTablesConfiguration) {

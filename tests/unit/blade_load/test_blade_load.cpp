@@ -213,11 +213,7 @@ TEST(PlantAmplitude, SteadyWindWithinFivePercentOfTruth) {
 }
 
 plant::FaultSpec fault(const std::string& target, const std::string& type, double start) {
-  plant::FaultSpec f;
-  f.turbine = "WT01";
-  f.target = target;
-  f.type = type;
-  f.start = start;
+  auto f = plant::FaultSpec::make("WT01", target, type, start);
   return f;
 }
 

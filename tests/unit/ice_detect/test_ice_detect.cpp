@@ -181,14 +181,8 @@ TEST(IceDetector, AHealthyHourRaisesNothing) {
 
 TEST(IceDetector, AccretionRampIsFlaggedAndSized) {
   // GIVEN 2500 kg of ice accreting over 600 s from t = 300 s (+7 % inertia) at 10 m/s
-  plant::FaultSpec f;
-  f.turbine = "WT01";
-  f.target = "rotor";
-  f.type = "ice_accretion";
-  f.value = 2500;
-  f.has_value = true;
+  auto f = plant::FaultSpec::make("WT01", "rotor", "ice_accretion", 300).with_value(2500);
   f.ramp_in = 600;
-  f.start = 300;
   const auto r = run_plant(10.0, 1500, true, {f});
   // THEN ice_accretion is raised during the ramp, and its size is the true mass at that time within 40 %
   ASSERT_FALSE(r.events.empty());
@@ -204,12 +198,8 @@ TEST(IceDetector, AccretionRampIsFlaggedAndSized) {
 }
 
 plant::FaultSpec shedding(double fraction, double start) {
-  plant::FaultSpec f;
-  f.turbine = "WT01";
-  f.target = "rotor";
-  f.type = "ice_shedding";
+  auto f = plant::FaultSpec::make("WT01", "rotor", "ice_shedding", start);
   f.fraction = fraction;
-  f.start = start;
   return f;
 }
 
@@ -260,14 +250,8 @@ TEST(IceDetector, FastAccretionDoesNotOvershootIntoCritical) {
   // GIVEN 2500 kg of ice in one minute from 500 s (freezing rain; -5 % Cp with it) at 10 m/s. Before the
   // power model followed steps in Cp, the regression window across the step reported +17 % inertia
   // (9246 kg of ice: critical, the arbiter stopped the turbine).
-  plant::FaultSpec f;
-  f.turbine = "WT01";
-  f.target = "rotor";
-  f.type = "ice_accretion";
-  f.value = 2500;
-  f.has_value = true;
+  auto f = plant::FaultSpec::make("WT01", "rotor", "ice_accretion", 500).with_value(2500);
   f.ramp_in = 60;
-  f.start = 500;
   for (uint64_t seed : {7u, 8u}) {
     const auto r = run_plant(10.0, 1200, true, {f}, 0.0, seed);
     // THEN the inertia never reads more than 5 % above the truth, and no critical is raised

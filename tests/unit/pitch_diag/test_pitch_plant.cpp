@@ -41,11 +41,7 @@ PlantRun run_plant(double wind, double seconds, const std::vector<plant::FaultSp
 }
 
 plant::FaultSpec actuator_fault(int blade, const std::string& type, double start) {
-  plant::FaultSpec f;
-  f.turbine = "WT01";
-  f.target = "pitch_actuator_" + std::to_string(blade + 1);
-  f.type = type;
-  f.start = start;
+  auto f = plant::FaultSpec::make("WT01", "pitch_actuator_" + std::to_string(blade + 1), type, start);
   return f;
 }
 
@@ -107,13 +103,7 @@ TEST(PitchDiagPlant, HalfDevelopedLeakageIsReportedWithItsAlphaNotAsPumpWear) {
 
 TEST(PitchDiagPlant, PitchSensorOffsetIsNotAnActuatorFault) {
   // GIVEN a constant +2 deg offset on blade 2's pitch sensor from 30 s (the level removal takes it out)
-  plant::FaultSpec f;
-  f.turbine = "WT01";
-  f.target = "pitch_2";
-  f.type = "offset";
-  f.value = 2.0;
-  f.has_value = true;
-  f.start = 30.0;
+  auto f = plant::FaultSpec::make("WT01", "pitch_2", "offset", 30.0).with_value(2.0);
   const auto r = run_plant(16.0, 300.0, {f}, 72);
   // THEN nothing is raised
   EXPECT_TRUE(r.events.empty()) << r.events.front().component << " " << r.events.front().fault;

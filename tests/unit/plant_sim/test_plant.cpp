@@ -113,6 +113,9 @@ struct ActuatorCase {
   double omega_n, zeta;
 };
 
+// gtest (and the ctest names) print a case by its name, not its bytes.
+void PrintTo(const ActuatorCase& c, std::ostream* os) { *os << c.name; }
+
 class PitchStep : public ::testing::TestWithParam<ActuatorCase> {};
 
 TEST_P(PitchStep, StepResponseMatchesOmegaNAndZetaWithinTwoPercent) {
@@ -154,10 +157,7 @@ TEST(PitchActuator, RateAndAngleLimits) {
 
 TEST(PitchActuatorFault, PlantActuatorFollowsTable1WhenTheFaultIsActive) {
   // GIVEN a hydraulic leakage on blade 3 from t = 0 (abrupt) WHEN the plant runs
-  FaultSpec f;
-  f.turbine = "WT01";
-  f.target = "pitch_actuator_3";
-  f.type = "hydraulic_leakage";
+  auto f = FaultSpec::make("WT01", "pitch_actuator_3", "hydraulic_leakage", 0.0);
   TurbineSim sim(TurbineParams{}, steady(16.0, 0.2, 0.1), {f}, 3, 100.0, ControllerParams{}, no_noise());
   // THEN blade 3 lags blades 1-2 (omega_n 3.42 vs 11.11 rad/s): its tracking error is several times larger
   double e12 = 0, e3 = 0;
@@ -234,18 +234,15 @@ struct FaultCase {
   std::function<double(double true_value, double since)> expected;
 };
 
+// gtest (and the ctest names) print a case by its name, not its bytes.
+void PrintTo(const FaultCase& c, std::ostream* os) { *os << c.name; }
+
 class SensorFault : public ::testing::TestWithParam<FaultCase> {};
 
 TEST_P(SensorFault, AppearsExactlyAsSpecifiedAndOnTime) {
   const auto c = GetParam();
-  FaultSpec f;
-  f.turbine = "WT01";
-  f.target = c.target;
-  f.type = c.type;
-  f.start = 10.0;
+  auto f = FaultSpec::make("WT01", c.target, c.type, 10.0).with_value(c.value);
   f.end = 20.0;
-  f.value = c.value;
-  f.has_value = true;
   f.gain = c.gain;
   f.rate = c.rate;
   f.period = 2.0;
@@ -306,13 +303,7 @@ Pair run_pair(const FaultSpec& f, int samples) {
 
 TEST(ComponentFault, ConverterTorqueOffsetAddsItsValueFromItsStart) {
   // GIVEN a 100 N m converter torque offset during [10 s, 20 s) (the benchmark's fault 8)
-  FaultSpec f;
-  f.turbine = "WT01";
-  f.target = "converter";
-  f.type = "torque_offset";
-  f.value = 100.0;
-  f.has_value = true;
-  f.start = 10.0;
+  auto f = FaultSpec::make("WT01", "converter", "torque_offset", 10.0).with_value(100.0);
   f.end = 20.0;
   const Pair p = run_pair(f, 2500);
   // THEN nothing differs before 10 s, the measured torque is 100 N m higher at 10 s exactly
@@ -324,13 +315,7 @@ TEST(ComponentFault, ConverterTorqueOffsetAddsItsValueFromItsStart) {
 
 TEST(ComponentFault, DriveTrainEfficiencyDropChangesTheGeneratorFromItsStart) {
   // GIVEN the drive-train efficiency 0.97 -> 0.92 during [10 s, 20 s) (the benchmark's fault 9)
-  FaultSpec f;
-  f.turbine = "WT01";
-  f.target = "drive_train";
-  f.type = "efficiency";
-  f.value = 0.92;
-  f.has_value = true;
-  f.start = 10.0;
+  auto f = FaultSpec::make("WT01", "drive_train", "efficiency", 10.0).with_value(0.92);
   f.end = 20.0;
   const Pair p = run_pair(f, 2500);
   // THEN nothing differs before 10 s

@@ -399,13 +399,7 @@ PlantRun run_plant(double wind, double seconds, const std::vector<plant::FaultSp
 }
 
 plant::FaultSpec bias(const std::string& target, double value, double start) {
-  plant::FaultSpec f;
-  f.turbine = "WT01";
-  f.target = target;
-  f.type = "bias";
-  f.value = value;
-  f.has_value = true;
-  f.start = start;
+  auto f = plant::FaultSpec::make("WT01", target, "bias", start).with_value(value);
   return f;
 }
 
@@ -528,12 +522,8 @@ TEST(ObserverMode, AGeneratorTorqueSensorOffsetFlagsNeitherSpeedSensor) {
 
 TEST(ObserverMode, TimeVaryingBiasOfThePaperOnThePlant) {
   for (const char* target : {"rotor_speed", "generator_speed", "pitch_1"}) {
-    plant::FaultSpec f;
-    f.turbine = "WT01";
-    f.target = target;
-    f.type = "bias_paper";
+    auto f = plant::FaultSpec::make("WT01", target, "bias_paper", 60.0);
     f.amplitude = std::string(target) == "pitch_1" ? 0.05 : 0.02;
-    f.start = 60.0;
     // GIVEN eqs 41-42 injected from 60 s on the plant at 16 m/s, TI 0.1
     const PlantRun r = run_plant(16.0, 900.0, {f}, Mode::kObserver, 9, 0.1, 90.0);
     const int ch = std::string(target) == "rotor_speed" ? 0 : std::string(target) == "generator_speed" ? 1 : 2;
@@ -583,12 +573,8 @@ TEST(ObserverMode, TimeVaryingBiasOfThePaperOnThePlant) {
 
 TEST(ObserverMode, ARampBiasIsFollowedWithoutLag) {
   // GIVEN a generator-speed sensor drifting at 0.3 rad/s per s from 60 s at 14 m/s (36 rad/s after 120 s)
-  plant::FaultSpec f;
-  f.turbine = "WT01";
-  f.target = "generator_speed";
-  f.type = "drift";
+  auto f = plant::FaultSpec::make("WT01", "generator_speed", "drift", 60.0);
   f.rate = 0.3;
-  f.start = 60.0;
   const PlantRun r = run_plant(14.0, 180.0, {f}, Mode::kObserver, 12, 0.1, 60.0);
   // WHEN the error is averaged over the ramp after 20 s (the common mode wanders +-0.05 rad/s over a minute
   // with the power witness's noise; the average over 100 s shows the lag)
