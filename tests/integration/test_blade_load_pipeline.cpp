@@ -148,13 +148,9 @@ TEST(BladeLoadReplay, HealthyFarmHourRaisesNothing) {
 }
 
 TEST(BladeLoadReplay, MalformedRecordingExitsWithCode2NamingFileAndLine) {
-  const std::string dir = temp_dir("blade_load_bad");
-  std::ofstream(dir + "/bad.csv") << "t,azimuth,rotor_speed\n0,0,1.2\n0.01,abc,1.2\n";
-  ChildProcess diag({bin("windfdi-blade-load"), "--replay", dir + "/bad.csv", "--estimates", dir + "/e.csv",
-                     "--events", dir + "/e.jsonl"},
-                    {}, "blade_load_bad");
-  EXPECT_EQ(diag.wait(std::chrono::seconds(20)), 2);
-  EXPECT_NE(diag.stderr_text().find(dir + "/bad.csv:3"), std::string::npos) << diag.stderr_text();
+  const auto r = replay_malformed("windfdi-blade-load", "t,azimuth,rotor_speed\n0,0,1.2\n0.01,abc,1.2\n");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.stderr_text.find(r.file + ":3"), std::string::npos) << r.stderr_text;
 }
 
 TEST(BladeLoadPipeline, AbruptFaultReachesTheFarmAndTheArbiterSwitchesIpcToTheLidarModel) {

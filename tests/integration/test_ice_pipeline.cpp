@@ -124,13 +124,9 @@ TEST(IceReplay, PlantRecordingTracksTheAccretionAndFlagsTheShedding) {
 }
 
 TEST(IceReplay, MalformedRecordingExitsWithCode2NamingFileAndLine) {
-  const std::string dir = temp_dir("ice_replay_bad");
-  std::ofstream(dir + "/bad.csv") << "t,generator_speed,gen_torque\n0,152,30000\n0.01,152,torque\n";
-  ChildProcess ice({bin("windfdi-ice-detect"), "--replay", dir + "/bad.csv", "--estimates", dir + "/e.csv",
-                    "--events", dir + "/e.jsonl"},
-                   {}, "ice_bad");
-  EXPECT_EQ(ice.wait(std::chrono::seconds(20)), 2);
-  EXPECT_NE(ice.stderr_text().find(dir + "/bad.csv:3"), std::string::npos) << ice.stderr_text();
+  const auto r = replay_malformed("windfdi-ice-detect", "t,generator_speed,gen_torque\n0,152,30000\n0.01,152,torque\n");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.stderr_text.find(r.file + ":3"), std::string::npos) << r.stderr_text;
 }
 
 }  // namespace

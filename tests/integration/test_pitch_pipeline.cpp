@@ -53,13 +53,9 @@ TEST(PitchReplay, PlantRecordingGivesTheContractFilesAndTheLeak) {
 }
 
 TEST(PitchReplay, MalformedRecordingExitsWithCode2NamingFileAndLine) {
-  const std::string dir = temp_dir("pitch_replay_bad");
-  std::ofstream(dir + "/bad.csv") << "t,pitch_1,pitch_ref_1\n0,1,1\n0.01,abc,1\n";
-  ChildProcess diag({bin("windfdi-pitch-diag"), "--replay", dir + "/bad.csv", "--estimates", dir + "/e.csv",
-                     "--events", dir + "/e.jsonl"},
-                    {}, "pitch_bad");
-  EXPECT_EQ(diag.wait(std::chrono::seconds(20)), 2);
-  EXPECT_NE(diag.stderr_text().find(dir + "/bad.csv:3"), std::string::npos) << diag.stderr_text();
+  const auto r = replay_malformed("windfdi-pitch-diag", "t,pitch_1,pitch_ref_1\n0,1,1\n0.01,abc,1\n");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.stderr_text.find(r.file + ":3"), std::string::npos) << r.stderr_text;
 }
 
 }  // namespace

@@ -73,13 +73,9 @@ INSTANTIATE_TEST_SUITE_P(Scenarios, SensorBiasReplay,
                          [](const auto& i) { return std::string(i.param.component); });
 
 TEST(SensorBiasReplayInput, MalformedRecordingExitsWithCode2NamingFileAndLine) {
-  const std::string dir = temp_dir("sensor_bias_replay_bad");
-  std::ofstream(dir + "/bad.csv") << "t,rotor_speed,generator_speed\n0,1.6,152\n0.01,abc,152\n";
-  ChildProcess est({bin("windfdi-sensor-bias"), "--replay", dir + "/bad.csv", "--estimates", dir + "/e.csv",
-                    "--events", dir + "/e.jsonl"},
-                   {}, "sensor_bias_bad");
-  EXPECT_EQ(est.wait(std::chrono::seconds(20)), 2);
-  EXPECT_NE(est.stderr_text().find(dir + "/bad.csv:3"), std::string::npos) << est.stderr_text();
+  const auto r = replay_malformed("windfdi-sensor-bias", "t,rotor_speed,generator_speed\n0,1.6,152\n0.01,abc,152\n");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.stderr_text.find(r.file + ":3"), std::string::npos) << r.stderr_text;
 }
 
 TEST(SensorBiasPipeline, GeneratorSpeedBiasReachesTheFarmAndTheControllerUsesTheCorrectedSpeed) {

@@ -56,4 +56,22 @@ inline std::vector<nlohmann::json> farm_history(const std::string& db, const std
   return json_lines(h.stdout_text());
 }
 
+/// What a service said when it replayed a recording with a malformed third line.
+struct MalformedReplay {
+  int exit_code;
+  std::string file;    ///< the recording's path, which the error must name
+  std::string stderr_text;
+};
+
+/// Runs `<service_exe> --replay` on `csv` (a header and two rows, the second malformed) in a fresh temp dir.
+inline MalformedReplay replay_malformed(const std::string& service_exe, const std::string& csv) {
+  const std::string dir = temp_dir(service_exe + "_bad");
+  std::ofstream(dir + "/bad.csv") << csv;
+  ChildProcess p({bin(service_exe), "--replay", dir + "/bad.csv", "--estimates", dir + "/e.csv", "--events",
+                  dir + "/e.jsonl"},
+                 {}, service_exe + "_bad");
+  const int code = p.wait(std::chrono::seconds(20));
+  return {code, dir + "/bad.csv", p.stderr_text()};
+}
+
 }  // namespace windfdi::test

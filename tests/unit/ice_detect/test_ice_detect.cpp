@@ -16,16 +16,21 @@ namespace {
 
 YamlSection defaults() { return YamlSection(YAML::Node(YAML::NodeType::Map), "(defaults)"); }
 
+// The estimator on the bare one-mass model: no efficiency, friction or filter.
+EstimatorConfig one_mass(double power_window) {
+  EstimatorConfig c;
+  c.power_gain = 1.0;
+  c.friction = 0.0;
+  c.power_window = power_window;
+  c.filter_time = 0.0;
+  return c;
+}
+
 TEST(InertiaEstimator, NoiseFreeOneMassConvergesToTheTrueInertia) {
   // GIVEN the one-mass model J d omega/dt = P/omega - T_g (eq 2) with J = 6484 kg m^2, integrated finely,
   // and a torque balance that varies like gusts
   const double J = 6484.0, dt = 0.01;
-  EstimatorConfig c;
-  c.power_gain = 1.0;
-  c.friction = 0.0;
-  c.power_window = 0.0;
-  c.filter_time = 0.0;
-  InertiaEstimator est(c);
+  InertiaEstimator est(one_mass(0.0));
   double omega = 150.0;
   for (int k = 0; k < 30000; ++k) {
     const double t = k * dt;
@@ -73,11 +78,7 @@ TEST(InertiaEstimator, AStepInCpRecalibratesAndRestartsTheRegression) {
   // GIVEN the one-mass model with gusts and a power model 1/0.975 too high, whose rotor loses 5 % of its Cp at
   // 500 s (the generator torque follows, as a speed controller would)
   const double J = 6484.0, dt = 0.01;
-  EstimatorConfig c;
-  c.power_gain = 1.0;
-  c.friction = 0.0;
-  c.filter_time = 0.0;
-  InertiaEstimator est(c);
+  InertiaEstimator est(one_mass(EstimatorConfig{}.power_window));
   double omega = 150.0;
   uint64_t estimates_at_step = 0;
   for (int k = 0; k < 90000; ++k) {
