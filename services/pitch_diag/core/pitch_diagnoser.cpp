@@ -49,7 +49,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s) {
                         "alpha_settle",
                         "fault_alpha",
                         "abrupt_time",
-                        "shared_alpha",
+                        "shared_alpha", "short_max_alpha",
                         "max_tracking_error",
                         "pitch_min",
                         "pitch_max"});
@@ -109,6 +109,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s) {
   c.fault_alpha = s.get_number("fault_alpha", c.fault_alpha, 0.0, 2.0);
   c.abrupt_time = s.get_number("abrupt_time", c.abrupt_time, 0.0, 3600.0);
   c.shared_alpha = s.get_number("shared_alpha", c.shared_alpha, 0.0, 1.0);
+  c.short_max_alpha = s.get_number("short_max_alpha", c.short_max_alpha, 1.0, 1.5);
   c.max_tracking_error = s.get_number("max_tracking_error", c.max_tracking_error, 0.0, 180.0);
   c.pitch_min = s.get_number("pitch_min", c.pitch_min, -90.0, 90.0);
   c.pitch_max = s.get_number("pitch_max", c.pitch_max, c.pitch_min, 180.0);
@@ -179,7 +180,13 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<PitchEvent>& events) 
     // blade is not seen to drift, so a fault that appears during a hold is as abrupt as the data can tell.
     if (alpha_short >= cfg_->shared_alpha && shared_reached_after_ < 0.0)
       shared_reached_after_ = excited_since_healthy_;
-    const bool abrupt = shared_reached_after_ >= 0.0 && shared_reached_after_ <= cfg_->abrupt_time;
+    // Past the shorter fault's own signature only the longer path goes on: an abrupt leak crosses the
+    // pump-wear point on its way (the demo raised pump_wear at alpha 1.22 for 4 s before the leak). A raised
+    // shorter fault keeps its class: its alpha wanders about 1.
+    const std::string& short_class = primary_shorter ? cls_.fault_class : cls_.alt_class;
+    const bool past_short = alpha_short > cfg_->short_max_alpha && raised_ != short_class;
+    const bool abrupt =
+        shared_reached_after_ >= 0.0 && shared_reached_after_ <= cfg_->abrupt_time && !past_short;
     if (abrupt != primary_shorter) {
       std::swap(cls_.fault_class, cls_.alt_class);
       std::swap(cls_.alpha, cls_.alt_alpha);

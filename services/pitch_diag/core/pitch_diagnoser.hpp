@@ -28,6 +28,8 @@ struct PitchDiagConfig {
                                  ///< pump_wear, slower (a gradual drift along the shared path):
                                  ///< hydraulic_leakage. Held (unexcited) time does not count
   double shared_alpha = 0.8;     ///< alpha on the shorter (pump-wear) path that counts as reaching its point
+  double short_max_alpha = 1.15; ///< alpha on the shorter path beyond which a point not yet raised as that fault
+                                 ///< is the longer path's, however fast it got there (past its own signature)
   double max_tracking_error = 5.0;  ///< deg; |reference - pitch| above it means the actuator is at its rate
                                     ///< limit (a safe stop's jump to feather): the linear model does not hold
                                     ///< and nothing is identified. Healthy lag 1 deg at 10 deg/s; 0 disables

@@ -296,6 +296,29 @@ TEST(PitchDiagnoser, HalfDevelopedLeakageIsReportedWithItsAlphaNotAsPumpWear) {
   EXPECT_EQ(rig.last.fault_class[2], "none");
 }
 
+TEST(PitchDiagnoser, APointPastThePumpWearSignatureIsTheLeak) {
+  // GIVEN blade 3's dynamics jumping at 40 s to a point past the pump-wear signature on the shared path (pump
+  // wear at alpha 1.2, leakage at 0.6: where the demo's estimate of an abrupt leak sat for 4 s), then on
+  // to the full leak at 50 s; 0.2 deg noise
+  const auto& h = table1("none");
+  const auto& hl = table1("hydraulic_leakage");
+  const Signature overshoot{"", h.omega_n + 0.6 * (hl.omega_n - h.omega_n), h.zeta + 0.6 * (hl.zeta - h.zeta)};
+  auto trajectory = [&](double t, int b) { return b != 2 || t < 40.0 ? h : t < 50.0 ? overshoot : hl; };
+  Rig rig(PitchDiagConfig{}, 0.2, 43);
+  rig.run(60.0, trajectory);
+  // THEN the first report is the leak, not the pump wear the point would be abruptly on its own path
+  ASSERT_FALSE(rig.events.empty());
+  EXPECT_EQ(rig.events.front().fault, "hydraulic_leakage") << rig.events.front().detail;
+  for (const auto& e : rig.events) EXPECT_NE(e.fault, "pump_wear") << "t " << e.t;
+  // (without the rule, short_max_alpha at its clamp, the same data reported pump_wear first)
+  PitchDiagConfig no_rule;
+  no_rule.short_max_alpha = 1.5;
+  Rig old(no_rule, 0.2, 43);
+  old.run(60.0, trajectory);
+  ASSERT_FALSE(old.events.empty());
+  EXPECT_EQ(old.events.front().fault, "pump_wear");
+}
+
 TEST(PitchDiagnoser, HealthyHourRaisesNothing) {
   // GIVEN one hour of healthy actuators at 100 Hz with 0.2 deg noise
   Rig rig(PitchDiagConfig{}, 0.2, 77);

@@ -41,8 +41,7 @@ PlantRun run_plant(double wind, double seconds, const std::vector<plant::FaultSp
 }
 
 plant::FaultSpec actuator_fault(int blade, const std::string& type, double start) {
-  auto f = plant::FaultSpec::make("WT01", "pitch_actuator_" + std::to_string(blade + 1), type, start);
-  return f;
+  return plant::FaultSpec::make("WT01", "pitch_actuator_" + std::to_string(blade + 1), type, start);
 }
 
 TEST(PitchDiagPlant, EveryFaultOnEveryBladeIsClassifiedInRegion3) {
