@@ -21,7 +21,7 @@ struct DetectorConfig {
   double median_estimates = 61;     ///< 1 Hz estimates in the running median that is reported
   double ice_radius = 40.0;         ///< m, radius of gyration of the ice (m r^2 of rotor inertia)
   double gear_ratio = 95.0;         ///< N, to refer the rotor inertia to the generator side
-  double warning_mass = 1500.0;     ///< kg of ice for an ice_accretion warning
+  double warning_mass = 1700.0;     ///< kg of ice for an ice_accretion warning (5 % of J0 is about 1830 kg)
   double fault_mass = 2500.0;       ///< kg for severity fault
   double critical_mass = 4500.0;    ///< kg for severity critical (the arbiter stops the turbine)
   double confirm_time = 10.0;       ///< s a level must hold before it is raised
