@@ -6,6 +6,7 @@
 #include <map>
 
 #include "app.hpp"
+#include "deploy_dir.hpp"
 #include "replay.hpp"
 #include "service_node.hpp"
 
@@ -103,6 +104,10 @@ int run_node(const ServiceSpec& spec, const CommonOptions& common) {
 
 }  // namespace
 
+TurbineParams configured_turbine(const YamlSection& config) {
+  return load_turbine_params_file(config.get_path("turbine_file", deploy_dir() + "/turbine/benchmark_4.8MW.yaml"));
+}
+
 int run_diagnostic_service(int argc, char** argv, const ServiceSpec& spec) {
   const std::string exe = "windfdi-" + [&] {
     std::string n = spec.name;
@@ -120,12 +125,8 @@ int run_diagnostic_service(int argc, char** argv, const ServiceSpec& spec) {
   app.add_option("--estimates", replay.estimates, "replay: write the estimates CSV here");
   app.add_option("--events", replay.events, "replay: write the fault events (JSON Lines) here");
   return run_main(app, argc, argv, common, [&] {
-    if (config_file.empty()) {
-      spec.configure(nullptr);
-    } else {
-      const auto cfg = YamlSection::load_file(config_file);
-      spec.configure(&cfg);
-    }
+    spec.configure(config_file.empty() ? YamlSection(YAML::Node(YAML::NodeType::Map), "(defaults)")
+                                       : YamlSection::load_file(config_file));
     if (!replay.frames.empty()) return run_replay_mode(spec, replay);
     if (!replay.estimates.empty() || !replay.events.empty())
       throw ConfigError("--estimates/--events", 0, "", "only meaningful with --replay FILE");

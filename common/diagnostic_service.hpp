@@ -10,6 +10,7 @@
 #include "dds/participant.hpp"
 #include "fault_event.hpp"
 #include "frame_sample.hpp"
+#include "turbine_params.hpp"
 #include "yaml_config.hpp"
 
 namespace windfdi {
@@ -34,11 +35,16 @@ struct ServiceSpec {
   std::string description;                     ///< one line for --help
   std::vector<std::string> estimate_columns;   ///< replay estimate columns after t and turbine_id
   bool wants_lidar = false;                    ///< merge wt/lidar into the samples
-  /// Reads the service's configuration (nullptr: defaults). Called once, before make().
-  std::function<void(const YamlSection* config)> configure;
+  /// Reads the service's configuration (without --config an empty section: every key at its default).
+  /// Called once, before make().
+  std::function<void(const YamlSection& config)> configure;
   std::function<std::unique_ptr<TurbineDiagnoser>(const std::string& turbine_id)> make;
   std::function<EstimatePublisher(bus::Participant& participant)> make_publisher;
 };
+
+/// The turbine a service configuration names in `turbine_file` (relative: beside the configuration), else
+/// the shipped benchmark turbine (deploy_dir()/turbine/benchmark_4.8MW.yaml).
+TurbineParams configured_turbine(const YamlSection& config);
 
 /// Parses the command line (common options, --config, --replay, --estimates, --events) and runs.
 int run_diagnostic_service(int argc, char** argv, const ServiceSpec& spec);

@@ -14,13 +14,10 @@
 #include "TurbineFrame.h"
 #include "dds/convert.hpp"
 #include "dds/endpoints.hpp"
+#include "deploy_dir.hpp"
 #include "health.hpp"
 #include "replay_csv.hpp"
 #include "turbine_sim.hpp"
-
-#ifndef WINDFDI_SOURCE_DEPLOY_DIR
-#define WINDFDI_SOURCE_DEPLOY_DIR "/etc/windfdi"
-#endif
 
 namespace windfdi::plant {
 
@@ -35,11 +32,6 @@ double parse_rate(const std::string& text) {
 }
 
 namespace {
-
-std::string deploy_dir() {
-  if (const char* d = std::getenv("WINDFDI_DEPLOY_DIR"); d && *d) return d;
-  return WINDFDI_SOURCE_DEPLOY_DIR;
-}
 
 // The turbines a reader's content filter names: a DDS filter takes at most 100 parameters, so a plant
 // simulating more turbines reads every turbine's samples and keeps its own (runs.find below).

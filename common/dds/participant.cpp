@@ -19,14 +19,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "deploy_dir.hpp"
 #include "yaml_config.hpp"
-
-#ifndef WINDFDI_SOURCE_DEPLOY_DIR
-#define WINDFDI_SOURCE_DEPLOY_DIR ""
-#endif
-#ifndef WINDFDI_INSTALL_CONFIG_DIR
-#define WINDFDI_INSTALL_CONFIG_DIR "/etc/windfdi"
-#endif
 
 namespace windfdi {
 void register_type_objects();  // idl/register_type_objects.cpp
@@ -39,9 +33,7 @@ using namespace eprosima::fastdds::dds;
 std::string resolve_qos_file(const std::string& requested) {
   if (!requested.empty()) return requested;
   if (const char* env = std::getenv("WINDFDI_QOS_FILE"); env && *env) return env;
-  const std::string source = std::string(WINDFDI_SOURCE_DEPLOY_DIR) + "/qos/windfdi_qos.xml";
-  if (std::filesystem::exists(source)) return source;
-  return std::string(WINDFDI_INSTALL_CONFIG_DIR) + "/qos/windfdi_qos.xml";
+  return deploy_dir() + "/qos/windfdi_qos.xml";
 }
 
 namespace {

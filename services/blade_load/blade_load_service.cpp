@@ -8,10 +8,7 @@
 #include "Estimates.h"
 #include "csv.hpp"
 #include "dds/endpoints.hpp"
-
-#ifndef WINDFDI_SOURCE_DEPLOY_DIR
-#define WINDFDI_SOURCE_DEPLOY_DIR "/etc/windfdi"
-#endif
+#include "deploy_dir.hpp"
 
 namespace windfdi::blade_load {
 
@@ -82,10 +79,6 @@ class BladeLoadDiagnoser : public TurbineDiagnoser {
   BladeLoadOutput last_;
 };
 
-std::string beside(const YamlSection* cfg, const std::string& key, const std::string& fallback) {
-  return cfg ? cfg->get_path(key, fallback) : fallback;
-}
-
 }  // namespace
 
 ServiceSpec blade_load_spec() {
@@ -97,18 +90,15 @@ ServiceSpec blade_load_spec() {
   spec.estimate_columns = {"a1_sensor_1", "a1_sensor_2", "a1_sensor_3", "a1_model_1", "a1_model_2",
                            "a1_model_3",  "delta_a_1",   "delta_a_2",   "delta_a_3"};
   spec.wants_lidar = true;
-  spec.configure = [state](const YamlSection* cfg) {
-    const std::string deploy = WINDFDI_SOURCE_DEPLOY_DIR;
+  spec.configure = [state](const YamlSection& cfg) {
     // Relative files are taken beside the configuration file.
-    state->turbine = load_turbine_params_file(beside(cfg, "turbine_file", deploy + "/turbine/benchmark_4.8MW.yaml"));
-    const YamlSection defaults(YAML::Node(YAML::NodeType::Map), "(defaults)");
-    state->config = load_monitor_config(cfg ? *cfg : defaults, state->turbine);
+    state->turbine = configured_turbine(cfg);
+    state->config = load_monitor_config(cfg, state->turbine);
     state->table =
-        LoadTable::load_csv(beside(cfg, "load_table_file", deploy + "/turbine/benchmark_4.8MW_load_table.csv"));
-    // "" (the default) keeps no state; a relative name is taken beside the configuration.
-    const std::string state_file = cfg ? cfg->get<std::string>("state_file", "") : "";
-    state->state_file = state_file.empty() ? "" : beside(cfg, "state_file", "");
-    state->save_period = cfg ? cfg->get_number("save_period", 600.0, 1.0, 1e7) : 600.0;
+        LoadTable::load_csv(cfg.get_path("load_table_file", deploy_dir() + "/turbine/benchmark_4.8MW_load_table.csv"));
+    // "" (the default) keeps no state.
+    state->state_file = cfg.get<std::string>("state_file", "").empty() ? "" : cfg.get_path("state_file", "");
+    state->save_period = cfg.get_number("save_period", 600.0, 1.0, 1e7);
   };
   spec.make = [state](const std::string& id) -> std::unique_ptr<TurbineDiagnoser> {
     return std::make_unique<BladeLoadDiagnoser>(*state, id);

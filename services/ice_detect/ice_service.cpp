@@ -7,10 +7,7 @@
 #include "Estimates.h"
 #include "csv.hpp"
 #include "dds/endpoints.hpp"
-
-#ifndef WINDFDI_SOURCE_DEPLOY_DIR
-#define WINDFDI_SOURCE_DEPLOY_DIR "/etc/windfdi"
-#endif
+#include "deploy_dir.hpp"
 
 namespace windfdi::ice_detect {
 
@@ -96,11 +93,9 @@ ServiceSpec ice_detect_spec() {
   spec.name = "ice_detect";
   spec.description = "Ice accretion and shedding from the estimated rotor inertia (Stotsky & Egardt 2013)";
   spec.estimate_columns = {"inertia", "ice_mass", "excited"};
-  spec.configure = [state](const YamlSection* cfg) {
-    const std::string turbine_file = std::string(WINDFDI_SOURCE_DEPLOY_DIR) + "/turbine/benchmark_4.8MW.yaml";
-    state->turbine = load_turbine_params_file(cfg ? cfg->get_path("turbine_file", turbine_file) : turbine_file);
-    state->config = cfg ? load_detector_config(*cfg, state->turbine)
-                        : load_detector_config(YamlSection(YAML::Node(YAML::NodeType::Map), "(defaults)"), state->turbine);
+  spec.configure = [state](const YamlSection& cfg) {
+    state->turbine = configured_turbine(cfg);
+    state->config = load_detector_config(cfg, state->turbine);
     state->aero = std::make_unique<AeroModel>(state->turbine);
   };
   spec.make = [state](const std::string&) -> std::unique_ptr<TurbineDiagnoser> {

@@ -6,10 +6,7 @@
 #include "Estimates.h"
 #include "csv.hpp"
 #include "dds/endpoints.hpp"
-
-#ifndef WINDFDI_SOURCE_DEPLOY_DIR
-#define WINDFDI_SOURCE_DEPLOY_DIR "/etc/windfdi"
-#endif
+#include "deploy_dir.hpp"
 
 namespace windfdi::sensor_bias {
 
@@ -58,12 +55,9 @@ ServiceSpec sensor_bias_spec() {
   spec.estimate_columns = {"bias_rotor_speed", "bias_generator_speed", "bias_pitch_1", "bias_pitch_2", "bias_pitch_3",
                            "corrected_rotor_speed", "corrected_generator_speed", "corrected_pitch_1",
                            "corrected_pitch_2", "corrected_pitch_3", "bound_ratio", "aero_torque_input"};
-  spec.configure = [state](const YamlSection* cfg) {
-    const std::string deploy = WINDFDI_SOURCE_DEPLOY_DIR;
-    const std::string turbine_file = deploy + "/turbine/benchmark_4.8MW.yaml";
-    state->turbine = load_turbine_params_file(cfg ? cfg->get_path("turbine_file", turbine_file) : turbine_file);
-    const YamlSection defaults(YAML::Node(YAML::NodeType::Map), "(defaults)");
-    state->config = load_bias_config(cfg ? *cfg : defaults, deploy + "/sensor_bias");
+  spec.configure = [state](const YamlSection& cfg) {
+    state->turbine = configured_turbine(cfg);
+    state->config = load_bias_config(cfg, deploy_dir() + "/sensor_bias");
     state->drive_train = load_gain_file(state->config.drive_train_gain_file);
     state->pitch = load_gain_file(state->config.pitch_gain_file);
     // Construct once so a gain file of the wrong shape fails at start-up, not at the first sample.

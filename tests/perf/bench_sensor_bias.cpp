@@ -6,13 +6,14 @@
 #include <vector>
 
 #include "bias_estimator.hpp"
+#include "deploy_dir.hpp"
 #include "design_input.hpp"
 #include "observers.hpp"
 
 using namespace windfdi;
 using namespace windfdi::sensor_bias;
 
-static const std::string kDeploy = WINDFDI_SENSOR_BIAS_DEPLOY_DIR;
+static const std::string kDeploy = deploy_dir();
 
 static void BM_ObserverKernel(benchmark::State& state) {
   const GainFile d = load_gain_file(kDeploy + "/sensor_bias/gains_drive_train_observer.yaml");
