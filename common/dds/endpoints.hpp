@@ -84,6 +84,11 @@ class Writer : private eprosima::fastdds::dds::DataWriterListener {
     DataWriterQos qos;
     if (participant.publisher()->get_datawriter_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK)
       throw std::runtime_error("no data_writer QoS profile '" + profile + "'");
+    if (!Traits::writer_filtering) {
+      // A maximum of 0 turns writer-side filtering off (see TopicTraits::writer_filtering).
+      qos.writer_resource_limits().reader_filters_allocation.initial = 0;
+      qos.writer_resource_limits().reader_filters_allocation.maximum = 0;
+    }
     if (adjust) adjust(qos);
     writer_ = participant.publisher()->create_datawriter(topic, qos, this, StatusMask::all());
     if (!writer_) throw std::runtime_error(std::string("cannot create writer for ") + Traits::name);

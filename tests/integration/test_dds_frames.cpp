@@ -79,6 +79,31 @@ TEST_F(DdsFrames, FilteredAndUnfilteredReadersGetExactlyTheirTurbines) {
   EXPECT_EQ(o["counts"]["WT02"].get<int>(), blocks * block);
 }
 
+TEST_F(DdsFrames, ABusyWriterSurvivesFilteredReadersComingAndGoing) {
+  // GIVEN a writer of estimates for three turbines that writes as fast as it can (Fast DDS 2.9 evaluated
+  // remote readers' filters in write() unlocked against their arrival and departure: such a writer crashed)
+  const auto env = dds_env(domain);
+  ChildProcess flood({bin("windfdi-test-peer"), "flood", "--ids", "WT01,WT02,WT03", "--hold", "120"}, env, "flood");
+  ASSERT_TRUE(wait_ready(flood, std::chrono::seconds(20))) << flood.stderr_text();
+
+  // WHEN a reader filtered to WT02 is created and deleted 60 times in another process
+  ChildProcess churn({bin("windfdi-test-peer"), "churn", "--turbine-id", "WT02", "--cycles", "60"}, env, "churn");
+  int churn_exit = -1;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(200);
+  while (churn_exit == -1 && flood.running() && std::chrono::steady_clock::now() < end)
+    churn_exit = churn.wait(std::chrono::milliseconds(500));
+
+  // THEN the writer is still running and stops cleanly
+  ASSERT_TRUE(flood.running()) << "the writer died: " << flood.stderr_text();
+  ASSERT_EQ(churn_exit, 0) << churn.stderr_text();
+  EXPECT_EQ(flood.stop(SIGTERM), 0) << flood.stderr_text();
+  // AND every reader got WT02's estimates and nothing else (the filter works at the reader)
+  const auto c = last_json_line(churn.stdout_text());
+  // (a reader that matched late may see nothing in its 5 s; most must have seen estimates)
+  EXPECT_GE(c["cycles"].get<int>(), 50) << c.dump();
+  EXPECT_EQ(c["foreign"].get<int>(), 0) << c.dump();
+}
+
 TEST_F(DdsFrames, ListenerGivesUpWithoutPublisherAndSaysSo) {
   // GIVEN a reader expecting samples WHEN nobody publishes THEN it exits 1 after its timeout, not hangs
   ChildProcess lone({bin("windfdi-test-peer"), "listen", "--expect", "10", "--timeout", "2"}, dds_env(domain),

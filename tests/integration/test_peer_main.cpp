@@ -9,6 +9,7 @@
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 
 #include "ControlConfiguration.h"
+#include "Estimates.h"
 #include "app.hpp"
 #include "yaml_config.hpp"
 #include "dds/convert.hpp"
@@ -209,6 +210,49 @@ int control(const CommonOptions& common, const std::string& turbine, const std::
   return 0;
 }
 
+// Writes SensorBiasEstimates for `ids` as fast as it can for `hold` s (a busy writer for the churn test).
+int flood(const CommonOptions& common, const std::vector<std::string>& ids, double hold) {
+  bus::Participant participant(participant_options(common, "windfdi-test-peer-flood"));
+  bus::Writer<windfdi::SensorBiasEstimate> writer(participant);
+  std::cout << "{\"ready\":true}" << std::endl;
+  const double start = wall_time();
+  uint64_t written = 0;
+  windfdi::SensorBiasEstimate e;
+  while (!shutdown_requested() && wall_time() - start < hold) {
+    for (const auto& id : ids) {
+      e.turbine_id(id);
+      e.t(static_cast<double>(written));
+      if (writer.write(e)) ++written;
+    }
+  }
+  std::cout << nlohmann::json{{"written", written}}.dump() << std::endl;
+  return 0;
+}
+
+// Creates and deletes a SensorBiasEstimate reader filtered to `turbine` `cycles` times, taking what arrives
+// in between: each arrival and departure is a filtered reader coming and going at the writers.
+int churn(const CommonOptions& common, const std::string& turbine, int cycles) {
+  bus::Participant participant(participant_options(common, "windfdi-test-peer-churn"));
+  uint64_t received = 0, foreign = 0;
+  int matched_cycles = 0;
+  for (int c = 0; c < cycles && !shutdown_requested(); ++c) {
+    bus::Wakeup wakeup;
+    bus::Reader<windfdi::SensorBiasEstimate> reader(participant, {turbine}, &wakeup);
+    std::vector<windfdi::SensorBiasEstimate> got;
+    const double end = wall_time() + 5.0;
+    while (got.empty() && wall_time() < end && !shutdown_requested()) {
+      wakeup.wait_for(std::chrono::milliseconds(20));
+      reader.take(got);
+    }
+    if (!got.empty()) ++matched_cycles;
+    received += got.size();
+    for (const auto& e : got) foreign += e.turbine_id() != turbine;
+  }
+  std::cout << nlohmann::json{{"cycles", matched_cycles}, {"received", received}, {"foreign", foreign}}.dump()
+            << std::endl;
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -220,15 +264,15 @@ int main(int argc, char** argv) {
   int blocks = 100, block_size = 10, readers = 1;
   double rate = 100.0, timeout = 30.0;
   uint64_t expect = 0;
-  app.add_option("mode", mode, "publish, listen, fault, configs or control")
-      ->check(CLI::IsMember({"publish", "listen", "fault", "configs", "control"}));
+  app.add_option("mode", mode, "publish, listen, fault, configs, control, flood or churn")
+      ->check(CLI::IsMember({"publish", "listen", "fault", "configs", "control", "flood", "churn"}));
   std::string turbine = "WT01", source = "pitch_diag";
   std::vector<std::string> script;
   double hold = 30.0;
-  app.add_option("--turbine-id", turbine, "fault mode: turbine of the reports");
+  app.add_option("--turbine-id", turbine, "fault mode: turbine of the reports; churn mode: the filter");
   app.add_option("--source", source, "fault mode: service name to report as; control mode: arbiter id");
   app.add_option("--script", script, "fault mode: AT:component:class:severity:raised|cleared (repeatable)");
-  app.add_option("--hold", hold, "fault mode: seconds to stay alive");
+  app.add_option("--hold", hold, "fault, control, flood modes: seconds to stay alive");
   app.add_option("--ids", ids, "turbine ids to publish")->delimiter(',');
   app.add_option("--blocks", blocks, "blocks per turbine");
   app.add_option("--block", block_size, "samples per block (1..32)")->check(CLI::Range(1, 32));
@@ -236,11 +280,15 @@ int main(int argc, char** argv) {
   app.add_option("--rate", rate, "blocks per second per turbine");
   app.add_option("--expect", expect, "samples to receive before exiting");
   app.add_option("--timeout", timeout, "seconds before giving up");
+  int cycles = 100;
+  app.add_option("--cycles", cycles, "churn mode: filtered readers to create and delete");
   return run_main(app, argc, argv, common, [&] {
     if (mode == "publish") return publish(common, ids, blocks, block_size, readers, rate);
     if (mode == "fault") return fault(common, turbine, source, script, hold);
     if (mode == "configs") return configs(common, timeout);
     if (mode == "control") return control(common, turbine, source, hold);
+    if (mode == "flood") return flood(common, ids, hold);
+    if (mode == "churn") return churn(common, turbine, cycles);
     return listen(common, expect, timeout);
   });
 }
