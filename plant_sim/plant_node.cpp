@@ -33,12 +33,6 @@ double parse_rate(const std::string& text) {
 
 namespace {
 
-// The turbines a reader's content filter names: a DDS filter takes at most 100 parameters, so a plant
-// simulating more turbines reads every turbine's samples and keeps its own (runs.find below).
-std::vector<std::string> reader_filter(const std::vector<std::string>& ids) {
-  return ids.size() <= 100 ? ids : std::vector<std::string>{};
-}
-
 // The DDS side: frames and LIDAR out, configurations and corrected measurements in.
 struct Bus {
   Bus(const CommonOptions& common, const std::vector<std::string>& ids, int block, double rate, double dt)
@@ -54,8 +48,8 @@ struct Bus {
                  }
                }),
         lidar(participant),
-        configs(participant, reader_filter(ids), &wakeup),
-        bias(participant, reader_filter(ids), &wakeup),
+        configs(participant, ids, &wakeup),
+        bias(participant, ids, &wakeup),
         health(participant, "plant", ids) {}
   bus::Participant participant;
   bus::Wakeup wakeup;

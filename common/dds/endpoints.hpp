@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
+#include <set>
 #include <stdexcept>
 #include <thread>
 #include <string>
@@ -166,7 +167,10 @@ struct LivelinessEvent {
 };
 
 /// A typed DataReader made from its topic's QoS profile, optionally restricted to some turbines.
-/// The listener only hands samples over: the node takes them on its own loop.
+/// The listener only hands samples over: the node takes them on its own loop. Where the writer does not
+/// filter (TopicTraits::writer_filtering), the turbines are kept in take() by a set lookup: a DDS content
+/// filter at the reader deserialises every sample a second time into DynamicData (the plant's filter on 80
+/// turbines' sensor_bias estimates cost 23 % of a core) and spares nothing on the wire.
 template <class T>
 class Reader : private eprosima::fastdds::dds::DataReaderListener {
  public:
@@ -176,8 +180,9 @@ class Reader : private eprosima::fastdds::dds::DataReaderListener {
          const std::string& profile = Traits::profile)
       : participant_(participant), wakeup_(wakeup) {
     using namespace eprosima::fastdds::dds;
-    auto* topic =
-        participant.topic_for_turbines(Traits::name, type_support<typename Traits::PubSub>(), turbine_ids);
+    if (!Traits::writer_filtering) wanted_.insert(turbine_ids.begin(), turbine_ids.end());
+    auto* topic = participant.topic_for_turbines(Traits::name, type_support<typename Traits::PubSub>(),
+                                                 Traits::writer_filtering ? turbine_ids : std::vector<std::string>{});
     DataReaderQos qos;
     if (participant.subscriber()->get_datareader_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK)
       throw std::runtime_error("no data_reader QoS profile '" + profile + "'");
@@ -201,6 +206,7 @@ class Reader : private eprosima::fastdds::dds::DataReaderListener {
     while (reader_->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
       // Disposals and unregistrations arrive as invalid samples.
       if (!info.valid_data) continue;
+      if (!wanted_.empty() && !wanted_.count(sample.turbine_id())) continue;
       out.push_back(sample);
       if (meta) meta->push_back({info.publication_handle, info.source_timestamp.to_ns() * 1e-9});
       ++n;
@@ -254,6 +260,7 @@ class Reader : private eprosima::fastdds::dds::DataReaderListener {
   Participant& participant_;
   Wakeup* wakeup_;
   eprosima::fastdds::dds::DataReader* reader_ = nullptr;
+  std::set<std::string> wanted_;  // turbines kept by take() (empty: all, or the DDS filter keeps them)
   EndpointStatus status_;
   std::mutex mutex_;
   std::vector<LivelinessEvent> liveliness_events_;
