@@ -86,7 +86,7 @@ TEST_F(DdsFrames, ABusyWriterSurvivesFilteredReadersComingAndGoing) {
   ChildProcess flood({bin("windfdi-test-peer"), "flood", "--ids", "WT01,WT02,WT03", "--hold", "120"}, env, "flood");
   ASSERT_TRUE(wait_ready(flood, std::chrono::seconds(20))) << flood.stderr_text();
 
-  // WHEN a reader filtered to WT02 is created and deleted 60 times in another process
+  // WHEN a reader with a DDS content filter on WT02 is created and deleted 60 times in another process
   ChildProcess churn({bin("windfdi-test-peer"), "churn", "--turbine-id", "WT02", "--cycles", "60"}, env, "churn");
   int churn_exit = -1;
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(200);
@@ -97,7 +97,7 @@ TEST_F(DdsFrames, ABusyWriterSurvivesFilteredReadersComingAndGoing) {
   ASSERT_TRUE(flood.running()) << "the writer died: " << flood.stderr_text();
   ASSERT_EQ(churn_exit, 0) << churn.stderr_text();
   EXPECT_EQ(flood.stop(SIGTERM), 0) << flood.stderr_text();
-  // AND every reader got WT02's estimates and nothing else (the filter works at the reader)
+  // AND every reader got WT02's estimates and nothing else (the writer leaves the filter to the reader)
   const auto c = last_json_line(churn.stdout_text());
   // (a reader that matched late may see nothing in its 5 s; most must have seen estimates)
   EXPECT_GE(c["cycles"].get<int>(), 50) << c.dump();
