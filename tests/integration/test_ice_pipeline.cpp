@@ -49,10 +49,6 @@ TEST(IcePipeline, IcedRotorReachesTheFarmAndTheArbiterAdaptsTheController) {
   remove_stale_shm(domain);
 }
 
-}  // namespace
-
-namespace {
-
 // The scenario's true ice mass (kg) at t: 2500 kg accreting over [500, 1700) s, half of it shed at 2000 s.
 double scenario_ice(double t) {
   const double accreted = 2500.0 * std::clamp((t - 500.0) / 1200.0, 0.0, 1.0);

@@ -2,14 +2,14 @@
 // run from what it installed alone (the configurations under etc/windfdi name ../turbine and ../sensor_bias).
 #include <gtest/gtest.h>
 
-#include <filesystem>
+#include <algorithm>
+#include <map>
 #include <string>
 
 #include "test_util.hpp"
 
 using namespace windfdi::test;
 using namespace std::chrono_literals;
-namespace fs = std::filesystem;
 
 TEST(InstalledTree, ThePlantAndEveryServiceRunFromTheInstalledConfiguration) {
   const std::string root = temp_dir("install");
