@@ -108,23 +108,28 @@ TEST_F(FarmNetwork, TwoTurbineHostsAndAFarmHostOverUdpWithADiscoveryServer) {
         return true;
     return false;
   };
+  // The arbiter's configurations follow the faults by a few ms: wait for all four, then say which is missing.
+  const auto config_seen = [](const std::vector<json>& rows, const char* turbine, bool (*want)(const json&)) {
+    for (const auto& r : rows)
+      if (r["kind"] == "config" && r["data"]["turbine_id"] == turbine && want(r["data"])) return true;
+    return false;
+  };
+  const auto safe_stop = [](const json& c) { return c["mode"] == "safe_stop"; };
+  const auto derating = [](const json& c) { return c["mode"] == "normal" && !c["reasons"].empty(); };
   std::vector<json> rows;
-  const bool both = wait_until(
+  bool both = false, stopped = false, derated = false;
+  wait_until(
       [&] {
         rows = history();
-        return has(rows, "WT01", "pitch_actuator_3", "hydraulic_leakage") &&
+        both = has(rows, "WT01", "pitch_actuator_3", "hydraulic_leakage") &&
                has(rows, "WT02", "pitch_actuator_1", "pump_wear");
+        stopped = config_seen(rows, "WT01", safe_stop);
+        derated = config_seen(rows, "WT02", derating);
+        return both && stopped && derated;
       },
       std::chrono::seconds(60));
   EXPECT_TRUE(both) << farm.stderr_text() << plant_a.stderr_text() << plant_b.stderr_text();
   // AND the arbiter on the farm host stopped WT01 (mode 2) and derated WT02, and the plants applied it
-  bool stopped = false, derated = false;
-  for (const auto& r : rows)
-    if (r["kind"] == "config") {
-      stopped = stopped || (r["data"]["turbine_id"] == "WT01" && r["data"]["mode"] == "safe_stop");
-      derated = derated || (r["data"]["turbine_id"] == "WT02" && r["data"]["mode"] == "normal" &&
-                            !r["data"]["reasons"].empty());
-    }
   EXPECT_TRUE(stopped) << arbiter.stderr_text();
   EXPECT_TRUE(derated) << arbiter.stderr_text();
   EXPECT_NE(plant_a.stderr_text().find("mode 2"), std::string::npos) << plant_a.stderr_text();
