@@ -46,6 +46,7 @@ ArbiterNode::ArbiterNode(const CommonOptions& common, const ArbiterConfig& confi
       faults_(participant_, common.turbines, &wakeup_),
       health_in_(participant_, common.turbines, &wakeup_),
       inertia_(participant_, common.turbines, &wakeup_),
+      pitch_(participant_, common.turbines, &wakeup_),
       acks_(participant_, common.turbines, &wakeup_),
       config_out_(participant_, "control",
                   [&](eprosima::fastdds::dds::DataWriterQos& q) { q.ownership_strength().value = options.strength; }),
@@ -59,20 +60,27 @@ bool ArbiterNode::serves(const std::string& id) const {
 ArbiterNode::Turbine& ArbiterNode::turbine(const std::string& id) {
   auto it = turbines_.find(id);
   if (it == turbines_.end()) {
-    it = turbines_.emplace(id, Turbine{Arbiter(config_), {}, 0, -1e300}).first;
+    it = turbines_.emplace(id, Turbine{Arbiter(config_), {}, 0, -1e300, {}}).first;
     spdlog::info("arbitrating turbine {}", id);
   }
   return it->second;
 }
 
-void ArbiterNode::handle_inputs(double now) {
+void ArbiterNode::handle_inputs(double wall) {
+  // Sample time first: every timer of the decision runs on the turbine's clock.
+  std::vector<windfdi::PitchActuatorEstimate> pitch;
+  pitch_.take(pitch);
+  for (const auto& est : pitch)
+    if (serves(est.turbine_id()) && std::isfinite(est.t())) turbine(est.turbine_id()).clock.observe(est.t(), wall);
   std::vector<windfdi::FaultReport> reports;
   faults_.take(reports);
   for (const auto& r : reports) {
     if (!serves(r.turbine_id())) continue;
     health_.count_in(r.turbine_id());
     const FaultEvent e = bus::to_event(r);
-    if (!turbine(r.turbine_id()).arbiter.on_fault(e, now)) {
+    Turbine& t = turbine(r.turbine_id());
+    if (std::isfinite(e.t)) t.clock.observe(e.t, wall);
+    if (!t.arbiter.on_fault(e, t.clock.now(wall))) {
       health_.count_rejected(r.turbine_id());
       spdlog::warn("{}: ignoring FaultReport {} / {} from {}: not a valid component and class", r.turbine_id(),
                    e.component, e.fault, e.source);
@@ -84,15 +92,21 @@ void ArbiterNode::handle_inputs(double now) {
     if (!c.alive) spdlog::warn("service {} for turbine {} lost its liveliness", c.service, c.turbine_id);
     // "*": a farm-wide service instance speaks for every turbine.
     for (auto& [id, t] : turbines_)
-      if (c.turbine_id == "*" || c.turbine_id == id) t.arbiter.on_service_alive(c.service, c.alive, now);
-    if (c.alive && serves(c.turbine_id)) turbine(c.turbine_id).arbiter.on_service_alive(c.service, true, now);
+      if (c.turbine_id == "*" || c.turbine_id == id) t.arbiter.on_service_alive(c.service, c.alive, t.clock.now(wall));
+    if (c.alive && serves(c.turbine_id)) {
+      Turbine& t = turbine(c.turbine_id);
+      t.arbiter.on_service_alive(c.service, true, t.clock.now(wall));
+    }
   }
 
   std::vector<windfdi::InertiaEstimate> inertia;
   inertia_.take(inertia);
-  for (const auto& est : inertia)
-    if (serves(est.turbine_id()) && std::isfinite(est.inertia()) && est.inertia() > 0)
-      turbine(est.turbine_id()).arbiter.on_inertia(est.inertia());
+  for (const auto& est : inertia) {
+    if (!serves(est.turbine_id())) continue;
+    Turbine& t = turbine(est.turbine_id());
+    if (std::isfinite(est.t())) t.clock.observe(est.t(), wall);
+    if (std::isfinite(est.inertia()) && est.inertia() > 0) t.arbiter.on_inertia(est.inertia());
+  }
 
   std::vector<windfdi::FaultAck> acks;
   acks_.take(acks);
@@ -100,15 +114,17 @@ void ArbiterNode::handle_inputs(double now) {
     if (!serves(a.turbine_id())) continue;
     spdlog::info("{}: acknowledgement of {} on {} by {}", a.turbine_id(), bus::fault_class_name(a.fault_class()),
                  a.component(), a.operator_name());
-    turbine(a.turbine_id()).arbiter.on_ack(a.component(), bus::fault_class_name(a.fault_class()), now);
+    Turbine& t = turbine(a.turbine_id());
+    t.arbiter.on_ack(a.component(), bus::fault_class_name(a.fault_class()), t.clock.now(wall));
   }
 }
 
-void ArbiterNode::publish_configurations(double now) {
+void ArbiterNode::publish_configurations(double wall) {
   for (auto& [id, t] : turbines_) {
+    const double now = t.clock.now(wall);
     const Configuration c = t.arbiter.evaluate(now);
     const bool changed = c != t.last || t.revision == 0;
-    if (!changed && now - t.last_published < options_.republish_period) continue;
+    if (!changed && wall - t.last_published < options_.republish_period) continue;
     if (changed) {
       ++t.revision;
       spdlog::info("{}: configuration r{}: mode {}, ipc {}, ice {}, pitch rate {}/{}/{} deg/s, {} reasons", id,
@@ -118,7 +134,7 @@ void ArbiterNode::publish_configurations(double now) {
         spdlog::info("{}:   because {} reported {} on {}: {}", id, r.source, r.fault, r.component, r.action);
     }
     t.last = c;
-    t.last_published = now;
+    t.last_published = wall;
     if (!config_out_.write(to_idl(c, id, t.revision, options_.arbiter_id, now)))
       spdlog::error("{}: configuration not written", id);
   }

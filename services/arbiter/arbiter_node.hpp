@@ -16,6 +16,7 @@
 #include "dds/endpoints.hpp"
 #include "health.hpp"
 #include "service_liveliness.hpp"
+#include "turbine_clock.hpp"
 
 namespace windfdi::arbiter {
 
@@ -40,6 +41,7 @@ class ArbiterNode {
     Configuration last;
     uint64_t revision = 0;
     double last_published = -1e300;
+    TurbineClock clock;  ///< the decision's time base (sample time of the turbine's inputs)
   };
   Turbine& turbine(const std::string& id);
   bool serves(const std::string& id) const;
@@ -54,6 +56,7 @@ class ArbiterNode {
   bus::Reader<windfdi::FaultReport> faults_;
   bus::Reader<windfdi::ServiceHealth> health_in_;
   bus::Reader<windfdi::InertiaEstimate> inertia_;
+  bus::Reader<windfdi::PitchActuatorEstimate> pitch_;  ///< 10 Hz: keeps the turbine clocks going
   bus::Reader<windfdi::FaultAck> acks_;
   bus::Writer<windfdi::ControlConfiguration> config_out_;
   HealthReporter health_;

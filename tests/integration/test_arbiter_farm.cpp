@@ -51,10 +51,11 @@ TEST_F(ArbiterFarm, CriticalFaultSafeStopsLatchesUntilAckAndFarmLosesNothingOnRe
                        "arbiter");
   ChildProcess plant({bin("windfdi-test-peer"), "configs", "--timeout", "120"}, env, "configs");
   ASSERT_TRUE(ready(plant)) << plant.stderr_text();
-  // GIVEN pitch_diag reporting a critical leak on blade 3 at 2 s and clearing it at 4 s
+  // GIVEN pitch_diag reporting a critical leak on blade 3 at 2 s and clearing it at 14 s (held past the
+  // arbiter's 10 s stop confirmation, measured on the reports' own time)
   ChildProcess service({bin("windfdi-test-peer"), "fault", "--source", "pitch_diag", "--turbine-id", "WT01",
                         "--script", "2:pitch_actuator_3:hydraulic_leakage:critical:raised", "--script",
-                        "4:pitch_actuator_3:hydraulic_leakage:critical:cleared", "--hold", "120"},
+                        "14:pitch_actuator_3:hydraulic_leakage:critical:cleared", "--hold", "120"},
                        env, "pitch_diag");
   ASSERT_TRUE(ready(service)) << service.stderr_text();
 
@@ -68,7 +69,7 @@ TEST_F(ArbiterFarm, CriticalFaultSafeStopsLatchesUntilAckAndFarmLosesNothingOnRe
       std::chrono::seconds(30)))
       << plant.stdout_text() << arbiter.stderr_text();
   // AND it stays in safe stop long after the clear (latched; clear_hold is only 2 s)
-  std::this_thread::sleep_for(std::chrono::seconds(6));
+  std::this_thread::sleep_for(std::chrono::seconds(16));
   ASSERT_EQ(configs(plant).back()["mode"], 2) << plant.stdout_text();
 
   // WHEN the farm monitor is killed with SIGKILL and restarted on the same database

@@ -37,7 +37,8 @@ const char* to_string(IceMode m) {
 
 ArbiterConfig load_arbiter_config(const YamlSection& s) {
   s.require_known_keys({"clear_hold", "nominal_pitch_rate", "derated_pitch_rate", "rotor_speed_bias_limit",
-                        "generator_speed_bias_limit", "pitch_bias_limit", "has_lidar", "inertia_step"});
+                        "generator_speed_bias_limit", "pitch_bias_limit", "has_lidar", "inertia_step",
+                        "stop_confirm_time", "class_settle_time", "isolation_lead", "isolation_common_window"});
   ArbiterConfig c;
   c.clear_hold = s.get_number("clear_hold", c.clear_hold, 0.0, 3600.0);
   c.nominal_pitch_rate = s.get_number("nominal_pitch_rate", c.nominal_pitch_rate, 1.0, 30.0);
@@ -50,6 +51,10 @@ ArbiterConfig load_arbiter_config(const YamlSection& s) {
   c.pitch_bias_limit = s.get_number("pitch_bias_limit", c.pitch_bias_limit, 0.0, 90.0);
   c.has_lidar = s.get<bool>("has_lidar", c.has_lidar);
   c.inertia_step = s.get_number("inertia_step", c.inertia_step, 0.0, 0.5);
+  c.stop_confirm_time = s.get_number("stop_confirm_time", c.stop_confirm_time, 0.0, 600.0);
+  c.class_settle_time = s.get_number("class_settle_time", c.class_settle_time, 0.0, 3600.0);
+  c.isolation.lead = s.get_number("isolation_lead", c.isolation.lead, 0.0, 600.0);
+  c.isolation.common_window = s.get_number("isolation_common_window", c.isolation.common_window, 0.0, 600.0);
   return c;
 }
 
@@ -70,6 +75,7 @@ int blade_of(const std::string& component) {
   return (last >= '1' && last <= '3') ? last - '1' : -1;
 }
 bool starts_with(const std::string& s, const char* p) { return s.rfind(p, 0) == 0; }
+bool stop_severity(const std::string& severity) { return severity == "fault" || severity == "critical"; }
 }  // namespace
 
 bool Arbiter::on_fault(const FaultEvent& e, double now) {
@@ -82,18 +88,38 @@ bool Arbiter::on_fault(const FaultEvent& e, double now) {
   const std::string key = cause_key(e);
   if (e.raised) {
     Cause& c = causes_[key];
+    if (!c.raised || c.event.severity != e.severity) c.severity_since = now;
+    if (!c.raised) note_class(e, now);
     c.event = e;
     c.raised = true;
-    // Critical faults, and a leaking actuator (safe stop), stay latched until acknowledged.
-    c.latched = c.latched || e.severity == "critical" || e.fault == "hydraulic_leakage";
   } else {
     auto it = causes_.find(key);
     if (it == causes_.end()) return true;  // clearing something never raised here: nothing to undo
-    if (it->second.raised) it->second.cleared_at = now;
+    if (it->second.raised) {
+      it->second.cleared_at = now;
+      note_class(e, now);  // a class counts as a rival until it was last active
+    }
     it->second.raised = false;
     it->second.event.size = e.size;
   }
   return true;
+}
+
+void Arbiter::note_class(const FaultEvent& e, double now) {
+  auto& h = class_history_[e.source + "/" + e.component];
+  h.emplace_back(now, e.fault);
+  while (h.size() > 1 && now - h.front().first > config_.class_settle_time) h.erase(h.begin());
+}
+
+std::vector<std::string> Arbiter::rival_classes(const Cause& c, double now) const {
+  std::vector<std::string> out;
+  const auto it = class_history_.find(c.event.source + "/" + c.event.component);
+  if (it == class_history_.end()) return out;
+  for (const auto& [t, cls] : it->second)
+    if (now - t < config_.class_settle_time && cls != c.event.fault &&
+        std::find(out.begin(), out.end(), cls) == out.end())
+      out.push_back(cls);
+  return out;
 }
 
 void Arbiter::on_ack(const std::string& component, const std::string& fault, double /*now*/) {
@@ -134,7 +160,7 @@ void demand(E& current, E wanted) {
 }
 }  // namespace
 
-void Arbiter::apply(const Cause& cause, Configuration& cfg) const {
+void Arbiter::apply(Cause& cause, double now, Configuration& cfg) {
   const FaultEvent& e = cause.event;
   auto reason = [&](const std::string& action) { cfg.reasons.push_back({e.source, e.component, e.fault, action}); };
   const int blade = blade_of(e.component);
@@ -167,15 +193,37 @@ void Arbiter::apply(const Cause& cause, Configuration& cfg) const {
       reason("mode=degraded (measurement not trusted)");
     }
   } else if (starts_with(e.component, "pitch_actuator_") && blade >= 0) {
-    if (e.fault == "hydraulic_leakage") {
+    const auto rivals = rival_classes(cause, now);
+    // A stop needs strong, settled evidence: the leak class at stop severity for stop_confirm_time, and no
+    // other class on this actuator for class_settle_time. Short of that, the reversible derate.
+    const bool stop_class = e.fault == "hydraulic_leakage";
+    if (stop_class && (cause.latched || (rivals.empty() && cause.raised && stop_severity(e.severity) &&
+                                         now - cause.severity_since >= config_.stop_confirm_time))) {
+      cause.latched = true;
       demand(cfg.mode, Mode::kSafeStop);
       reason("mode=safe_stop");
+      return;
+    }
+    cfg.pitch_rate_limit[blade] = std::min(cfg.pitch_rate_limit[blade], config_.derated_pitch_rate);
+    std::string classes = e.fault;
+    for (const auto& r : rivals) classes += " or " + r;
+    if (!rivals.empty()) {
+      // Uncertain between classes: the most conservative reversible action of any candidate.
+      demand(cfg.mode, Mode::kDegraded);
+      reason("uncertain: " + classes + "; mode=degraded, pitch_rate_limit_" + std::to_string(blade + 1) +
+             "=derated");
+    } else if (stop_class) {
+      demand(cfg.mode, Mode::kDegraded);
+      reason("mode=degraded, pitch_rate_limit_" + std::to_string(blade + 1) + "=derated; safe stop when confirmed");
     } else {
-      cfg.pitch_rate_limit[blade] = std::min(cfg.pitch_rate_limit[blade], config_.derated_pitch_rate);
       reason("pitch_rate_limit_" + std::to_string(blade + 1) + "=derated; maintenance");
     }
   } else if (e.component == "rotor") {
-    if (e.fault == "ice_accretion" && e.severity == "critical") {
+    const bool critical_confirmed =
+        e.fault == "ice_accretion" && (cause.latched || (cause.raised && e.severity == "critical" &&
+                                                         now - cause.severity_since >= config_.stop_confirm_time));
+    if (critical_confirmed) {
+      cause.latched = true;
       demand(cfg.ice_mode, IceMode::kStop);
       demand(cfg.mode, Mode::kSafeStop);
       reason("ice_mode=stop");
@@ -186,6 +234,9 @@ void Arbiter::apply(const Cause& cause, Configuration& cfg) const {
       reason("farm_alarm");
     }
   }
+  // Any other critical report latches once it has held for stop_confirm_time.
+  if (cause.raised && e.severity == "critical" && now - cause.severity_since >= config_.stop_confirm_time)
+    cause.latched = true;
 }
 
 void Arbiter::apply_service_lost(const std::string& service, Configuration& cfg) const {
@@ -213,8 +264,24 @@ void Arbiter::apply_service_lost(const std::string& service, Configuration& cfg)
 Configuration Arbiter::evaluate(double now) {
   Configuration cfg;
   cfg.pitch_rate_limit = {config_.nominal_pitch_rate, config_.nominal_pitch_rate, config_.nominal_pitch_rate};
-  for (const auto& [key, c] : causes_)
-    if (acting(c, now)) apply(c, cfg);
+  // Isolation: a report that another acting report explains (signature table) is secondary and not acted
+  // on; a latched cause has been acted on and stays until acknowledged.
+  std::vector<Cause*> acting_causes;
+  std::vector<isolation::Report> reports;
+  for (auto& [key, c] : causes_)
+    if (acting(c, now)) {
+      acting_causes.push_back(&c);
+      reports.push_back({c.event.source, c.event.component, c.event.fault, c.event.t_detected});
+    }
+  const auto verdicts = isolation::isolate(reports, config_.isolation);
+  for (std::size_t i = 0; i < acting_causes.size(); ++i) {
+    Cause& c = *acting_causes[i];
+    if (verdicts[i].secondary && !c.latched)
+      cfg.reasons.push_back({c.event.source, c.event.component, c.event.fault,
+                             "secondary: explained by " + verdicts[i].explained_by + " (not acted on)"});
+    else
+      apply(c, now, cfg);
+  }
   // A service lost (or back for less than clear_hold) overrides what its own reports asked for.
   for (auto it = recovered_services_.begin(); it != recovered_services_.end();) {
     if (now - it->second >= config_.clear_hold) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "fault_event.hpp"
+#include "isolation.hpp"
 #include "yaml_config.hpp"
 
 namespace windfdi::arbiter {
@@ -37,6 +38,14 @@ struct ArbiterConfig {
   /// Relative change of the inertia estimate that re-tunes the ice-adapted controller (0..0.5). Each 1 Hz
   /// estimate used to be a new configuration: 30 revisions a second at 30x, a controller re-tuned on noise.
   double inertia_step = 0.02;
+  /// s a fault of a class that warrants a safe stop must hold its stop severity (fault or critical) with its
+  /// class unchanged before the turbine is stopped (0..600). A stop costs production; a flip or a warning
+  /// gets the reversible derate below until the evidence settles.
+  double stop_confirm_time = 10.0;
+  /// s after another class was raised on the same component during which its class is uncertain (0..3600):
+  /// "high_air_content or hydraulic_leakage" gets the most conservative reversible action, never a stop.
+  double class_settle_time = 30.0;
+  isolation::IsolationConfig isolation;  ///< keys isolation_lead, isolation_common_window (s)
 };
 
 /// Reads the `arbiter` keys of a YAML file (unknown keys and out-of-range values are ConfigErrors).
@@ -91,7 +100,7 @@ class Arbiter {
   Configuration evaluate(double now);
 
   uint64_t rejected_reports() const { return rejected_; }
-  /// Causes currently acting, for display: "source/component/fault".
+  /// Causes currently acting, for display: "source/component/fault" (secondary ones included).
   std::vector<std::string> active_causes(double now) const;
 
  private:
@@ -99,14 +108,20 @@ class Arbiter {
     FaultEvent event;          ///< the latest report of this (source, component, fault)
     bool raised = false;
     double cleared_at = 0.0;   ///< arbiter time of the clear
-    bool latched = false;      ///< critical: acts until acknowledged
+    double severity_since = 0.0;  ///< arbiter time from which the report has held its present severity
+    bool latched = false;      ///< a confirmed stop (or critical fault): acts until acknowledged
   };
   bool acting(const Cause& c, double now) const;
-  void apply(const Cause& c, Configuration& cfg) const;
+  void apply(Cause& c, double now, Configuration& cfg);
+  /// Other classes raised on the cause's (source, component) within class_settle_time: empty when settled.
+  std::vector<std::string> rival_classes(const Cause& c, double now) const;
+  void note_class(const FaultEvent& e, double now);  ///< a class raised or cleared on its source/component
   void apply_service_lost(const std::string& service, Configuration& cfg) const;
 
   ArbiterConfig config_;
   std::map<std::string, Cause> causes_;  // key source/component/fault
+  // source/component -> (time, class) of each class raised there, newest last (pruned to class_settle_time)
+  std::map<std::string, std::vector<std::pair<double, std::string>>> class_history_;
   std::map<std::string, double> lost_services_;  // service -> time lost (or time it came back, see below)
   std::map<std::string, double> recovered_services_;
   double inertia_ = 0.0;

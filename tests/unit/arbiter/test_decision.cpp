@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "decision.hpp"
+#include "turbine_clock.hpp"
 
 using namespace windfdi;
 using namespace windfdi::arbiter;
@@ -51,9 +52,10 @@ TEST_P(DecisionTable, SingleFaultGivesTheTablesConfiguration) {
   const Row& row = GetParam();
   // GIVEN a healthy turbine's arbiter
   Arbiter a;
-  // WHEN the row's fault is reported
+  // WHEN the row's fault is reported and holds for the stop confirmation time
   ASSERT_TRUE(a.on_fault(row.event, 100.0));
-  const Configuration c = a.evaluate(100.0);
+  a.evaluate(100.0);
+  const Configuration c = a.evaluate(100.0 + ArbiterConfig{}.stop_confirm_time);
   // THEN the configuration is the table's, and it says why
   EXPECT_EQ(c.mode, row.mode);
   EXPECT_EQ(c.ipc_source, row.ipc);
@@ -128,8 +130,10 @@ TEST(Decision, MostConservativeDemandWins) {
   a.on_fault(fault("pitch_diag", "pitch_actuator_1", "pump_wear", "warning"), 0.0);
   a.on_fault(fault("pitch_diag", "pitch_actuator_3", "hydraulic_leakage", "critical"), 0.0);
   a.on_fault(fault("blade_load", "blade_moment_sensor_2", "sensor_drift"), 0.0);
-  const auto c = a.evaluate(0.0);
-  // THEN safe stop (leak) beats normal, blade 1 stays derated, and every cause is a reason
+  // THEN before the leak is confirmed the turbine is only degraded (a stop needs settled evidence)
+  EXPECT_EQ(a.evaluate(0.0).mode, Mode::kDegraded);
+  const auto c = a.evaluate(10.0);
+  // AND once it is, safe stop (leak) beats normal, blade 1 stays derated, and every cause is a reason
   EXPECT_EQ(c.mode, Mode::kSafeStop);
   EXPECT_EQ(c.pitch_rate_limit[0], 5.0);
   EXPECT_EQ(c.ipc_source, IpcSource::kLidarModel);
@@ -175,9 +179,11 @@ TEST(Decision, CriticalFaultStaysLatchedUntilAcknowledged) {
   ArbiterConfig cfg;
   cfg.clear_hold = 10.0;
   Arbiter a(cfg);
-  // t=0 leak raised -> safe stop
+  // t=0 leak raised -> degraded until it has held for stop_confirm_time (10 s), then safe stop
   a.on_fault(fault("pitch_diag", "pitch_actuator_3", "hydraulic_leakage", "critical"), 0.0);
-  EXPECT_EQ(a.evaluate(0.0).mode, Mode::kSafeStop);
+  EXPECT_EQ(a.evaluate(0.0).mode, Mode::kDegraded);
+  EXPECT_EQ(a.evaluate(4.9).mode, Mode::kDegraded);
+  EXPECT_EQ(a.evaluate(10.0).mode, Mode::kSafeStop);
   // t=5 cleared; t=1000 long clear -> still safe stop (latched)
   a.on_fault(fault("pitch_diag", "pitch_actuator_3", "hydraulic_leakage", "critical", 0.0, false), 5.0);
   EXPECT_EQ(a.evaluate(1000.0).mode, Mode::kSafeStop);
@@ -192,8 +198,10 @@ TEST(Decision, CriticalFaultStaysLatchedUntilAcknowledged) {
 TEST(Decision, AckWhileStillRaisedDoesNotRelease) {
   Arbiter a;
   a.on_fault(fault("ice_detect", "rotor", "ice_accretion", "critical"), 0.0);
-  a.on_ack("rotor", "none", 1.0);
-  EXPECT_EQ(a.evaluate(2.0).ice_mode, IceMode::kStop);  // still raised: still acting
+  EXPECT_EQ(a.evaluate(2.0).ice_mode, IceMode::kAdapted);  // critical, not yet confirmed: adapted, no stop
+  EXPECT_EQ(a.evaluate(10.0).ice_mode, IceMode::kStop);
+  a.on_ack("rotor", "none", 11.0);
+  EXPECT_EQ(a.evaluate(12.0).ice_mode, IceMode::kStop);  // still raised: still acting
 }
 
 TEST(Decision, LostServiceFallsBackToTheConservativeSettingForItsComponents) {
@@ -279,6 +287,125 @@ TEST(Decision, ConfigLoaderRejectsBadValues) {
     std::ofstream(path) << "clear_hold: 12\n";
   }
   EXPECT_DOUBLE_EQ(load_arbiter_config(YamlSection::load_file(path)).clear_hold, 12.0);
+}
+
+// --- Proportionate action: only strong, settled evidence stops a turbine ---
+
+TEST(Proportionate, AWarningNeverStopsTheTurbine) {
+  Arbiter a;
+  // GIVEN a leak reported as a warning, held for an hour
+  a.on_fault(fault("pitch_diag", "pitch_actuator_2", "hydraulic_leakage", "warning"), 0.0);
+  for (double t = 0.0; t <= 3600.0; t += 100.0) {
+    const auto c = a.evaluate(t);
+    // THEN the reversible derate, never a stop
+    EXPECT_EQ(c.mode, Mode::kDegraded) << t;
+    EXPECT_EQ(c.pitch_rate_limit[1], 5.0) << t;
+  }
+  // WHEN it clears THEN nothing is latched: back to normal after clear_hold
+  a.on_fault(fault("pitch_diag", "pitch_actuator_2", "hydraulic_leakage", "warning", 0.0, false), 3600.0);
+  EXPECT_EQ(a.evaluate(3600.0 + ArbiterConfig{}.clear_hold).mode, Mode::kNormal);
+}
+
+TEST(Proportionate, AWarningGrowingToFaultStopsOnlyAfterTheFaultSeverityHeld) {
+  Arbiter a;
+  a.on_fault(fault("pitch_diag", "pitch_actuator_3", "hydraulic_leakage", "warning"), 0.0);
+  EXPECT_EQ(a.evaluate(50.0).mode, Mode::kDegraded);
+  // t=50: severity fault -> the confirmation starts now, not at the warning
+  a.on_fault(fault("pitch_diag", "pitch_actuator_3", "hydraulic_leakage", "fault"), 50.0);
+  EXPECT_EQ(a.evaluate(59.9).mode, Mode::kDegraded);
+  EXPECT_EQ(a.evaluate(60.0).mode, Mode::kSafeStop);
+}
+
+TEST(Proportionate, AFlippingClassIsUncertainAndDeratedUntilItSettles) {
+  Arbiter a;  // class_settle_time 30 s, stop_confirm_time 10 s
+  auto raise = [&](const char* cls, double t) { a.on_fault(fault("pitch_diag", "pitch_actuator_2", cls), t); };
+  auto clear = [&](const char* cls, double t) {
+    a.on_fault(fault("pitch_diag", "pitch_actuator_2", cls, "fault", 0.0, false), t);
+  };
+  // high_air_content > hydraulic_leakage > high_air_content > hydraulic_leakage within a minute
+  raise("high_air_content", 0.0);
+  clear("high_air_content", 3.0);
+  raise("hydraulic_leakage", 3.0);
+  auto c = a.evaluate(5.0);
+  EXPECT_EQ(c.mode, Mode::kDegraded);
+  EXPECT_EQ(c.pitch_rate_limit[1], 5.0);
+  EXPECT_TRUE(has_reason(c, "uncertain: hydraulic_leakage or high_air_content"));
+  clear("hydraulic_leakage", 20.0);
+  raise("high_air_content", 20.0);
+  clear("high_air_content", 25.0);
+  raise("hydraulic_leakage", 25.0);
+  // t=40: the leak held 15 s but high air content was seen 15 s ago: still uncertain, no stop
+  EXPECT_EQ(a.evaluate(40.0).mode, Mode::kDegraded);
+  EXPECT_EQ(a.evaluate(54.9).mode, Mode::kDegraded);
+  // t=55: 30 s since the last rival and the leak held for more than 10 s: settled -> safe stop, latched
+  c = a.evaluate(55.0);
+  EXPECT_EQ(c.mode, Mode::kSafeStop);
+  EXPECT_FALSE(has_reason(c, "uncertain"));
+  clear("hydraulic_leakage", 60.0);
+  EXPECT_EQ(a.evaluate(1000.0).mode, Mode::kSafeStop);
+}
+
+// --- Isolation through the arbiter: secondary reports are shown, not acted on ---
+
+TEST(Isolated, ALeakExplainedByASpeedSensorFaultNeverStops) {
+  Arbiter a;
+  // GIVEN a generator-speed bias, and 1 s later a leak "fault" on a healthy actuator (the controller's
+  // switch to the corrected speed moved the pitch)
+  auto speed = fault("sensor_bias", "generator_speed_sensor", "sensor_bias", "fault", 3.0);
+  speed.t_detected = 100.0;
+  a.on_fault(speed, 100.0);
+  auto leak = fault("pitch_diag", "pitch_actuator_2", "hydraulic_leakage", "fault");
+  leak.t_detected = 100.5;
+  a.on_fault(leak, 101.0);
+  // THEN the corrected speed is used, the leak is secondary: no derate, no stop
+  for (double t : {101.0, 150.0, 500.0}) {
+    const auto c = a.evaluate(t);
+    EXPECT_EQ(c.mode, Mode::kNormal) << t;
+    EXPECT_EQ(c.pitch_rate_limit[1], 10.0) << t;
+    EXPECT_TRUE(c.use_corrected_generator_speed);
+    EXPECT_TRUE(has_reason(c, "secondary: explained by generator_speed_sensor sensor_bias"));
+  }
+}
+
+TEST(Isolated, AnActuatorFaultLongAfterASpeedFaultIsItsOwnRoot) {
+  Arbiter a;
+  auto speed = fault("sensor_bias", "rotor_speed_sensor", "sensor_bias", "fault", 0.03);
+  speed.t_detected = 100.0;
+  a.on_fault(speed, 100.0);
+  // a leak detected 60 s before the speed fault is no echo of it
+  auto leak = fault("pitch_diag", "pitch_actuator_1", "hydraulic_leakage", "fault");
+  leak.t_detected = 40.0;
+  a.on_fault(leak, 41.0);
+  EXPECT_EQ(a.evaluate(120.0).mode, Mode::kSafeStop);
+}
+
+TEST(Isolated, ThreeBladeSensorsAtOnceAreOneCommonCause) {
+  Arbiter a;
+  const char* cls[] = {"sensor_abrupt", "sensor_abrupt", "sensor_drift"};
+  for (int b = 0; b < 3; ++b) {
+    auto e = fault("blade_load", "blade_moment_sensor_" + std::to_string(b + 1), cls[b]);
+    e.t_detected = 1087.0 + 8.0 * b;
+    a.on_fault(e, e.t_detected);
+  }
+  const auto c = a.evaluate(1110.0);
+  // the gauges are not all broken: IPC stays on them, each report is marked
+  EXPECT_EQ(c.ipc_source, IpcSource::kStrainGauge);
+  EXPECT_TRUE(has_reason(c, "secondary: explained by common cause on every blade"));
+}
+
+// --- The turbine clock: timers in the turbine's seconds, whatever the simulation's speed ---
+
+TEST(TurbineClockTest, RunsAtTheMeasuredRateBetweenInputsAndNeverGoesBack) {
+  TurbineClock clock;
+  EXPECT_EQ(clock.now(5.0), 0.0);  // nothing observed yet
+  // GIVEN samples at 10x real time
+  for (int i = 0; i <= 30; ++i) clock.observe(100.0 + i, 1000.0 + 0.1 * i);
+  EXPECT_NEAR(clock.rate(), 10.0, 1e-9);
+  // WHEN 0.5 s of wall time pass without input THEN 5 s of turbine time have passed
+  EXPECT_NEAR(clock.now(1003.5), 135.0, 1e-9);
+  // AND a late, older sample does not move it back
+  clock.observe(120.0, 1003.6);
+  EXPECT_GE(clock.now(1003.6), 135.0);
 }
 
 }  // namespace

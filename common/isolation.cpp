@@ -1,0 +1,120 @@
+// Turbine-level fault isolation over the fault-signature table.
+#include "isolation.hpp"
+
+#include <cmath>
+#include <cstring>
+
+namespace windfdi::isolation {
+
+const std::vector<Signature>& signature_table() {
+  // Rows: root cause -> a residual of another service that it moves. Columns of the documented table are
+  // the responders; a service's own residual for its own fault is not listed (that report is the root).
+  static const std::vector<Signature> t = {
+      {"rotor_speed_sensor", "*", "blade_load", "blade_moment_sensor_*",
+       "the LIDAR load model's tip-speed ratio uses the rotor speed"},
+      {"rotor_speed_sensor", "*", "pitch_diag", "pitch_actuator_*",
+       "the speed controller moves every pitch reference on a wrong speed"},
+      {"rotor_speed_sensor", "*", "sensor_bias", "pitch_sensor_*", "the same pitch transient"},
+      {"rotor_speed_sensor", "*", "ice_detect", "rotor", "the inertia is estimated from the speed"},
+      {"generator_speed_sensor", "*", "blade_load", "blade_moment_sensor_*",
+       "the controller's pitch and speed move the blade loads"},
+      {"generator_speed_sensor", "*", "pitch_diag", "pitch_actuator_*",
+       "the pitch controller runs on the generator speed"},
+      {"generator_speed_sensor", "*", "sensor_bias", "pitch_sensor_*", "the same pitch transient"},
+      {"generator_speed_sensor", "*", "ice_detect", "rotor", "the inertia is estimated from the speed"},
+      {"pitch_sensor_i", "*", "pitch_diag", "pitch_actuator_i",
+       "the measured pitch is the identified actuator output"},
+      {"pitch_sensor_i", "*", "blade_load", "blade_moment_sensor_i", "the blade's load model takes its pitch"},
+      {"pitch_actuator_i", "*", "sensor_bias", "pitch_sensor_i",
+       "the pitch observer predicts with the healthy actuator model"},
+      {"pitch_actuator_i", "*", "blade_load", "blade_moment_sensor_i", "the blade's load follows its real pitch"},
+      {"rotor", "ice_accretion,ice_shedding", "blade_load", "blade_moment_sensor_*",
+       "ice changes the blades' aerodynamics and mass"},
+  };
+  return t;
+}
+
+namespace {
+
+// Blade number ('1'..'3') of a blade component, or 0.
+char blade_of(const std::string& component) {
+  const char last = component.empty() ? 0 : component.back();
+  return (last >= '1' && last <= '3' && component.size() > 2 && component[component.size() - 2] == '_') ? last : 0;
+}
+
+// Matches `component` against a row pattern; `bound` is the blade the other side fixed (0: none).
+bool matches(const char* pattern, const std::string& component, char bound) {
+  const std::size_t n = std::strlen(pattern);
+  if (n >= 2 && pattern[n - 2] == '_' && (pattern[n - 1] == '*' || pattern[n - 1] == 'i')) {
+    const char blade = blade_of(component);
+    if (!blade || component.compare(0, n - 1, pattern, n - 1) != 0 || component.size() != n) return false;
+    return pattern[n - 1] == '*' || bound == 0 || blade == bound;
+  }
+  return component == pattern;
+}
+
+bool class_listed(const char* classes, const std::string& fault) {
+  if (std::strcmp(classes, "*") == 0) return true;
+  const std::string list = std::string(",") + classes + ",";
+  return list.find("," + fault + ",") != std::string::npos;
+}
+
+const Signature* row_for(const Report& root, const Report& responder) {
+  if (root.component == responder.component) return nullptr;
+  for (const auto& s : signature_table()) {
+    if (responder.source != s.responder_source || !class_listed(s.root_classes, root.fault)) continue;
+    const std::size_t n = std::strlen(s.root_component);
+    const bool per_blade = n >= 2 && s.root_component[n - 1] == 'i' && s.root_component[n - 2] == '_';
+    const char blade = per_blade ? blade_of(root.component) : 0;
+    if (matches(s.root_component, root.component, 0) && matches(s.responder_component, responder.component, blade))
+      return &s;
+  }
+  return nullptr;
+}
+
+bool is_blade_sensor_family(const std::string& c) {
+  return c.rfind("blade_moment_sensor_", 0) == 0 || c.rfind("pitch_sensor_", 0) == 0;
+}
+
+}  // namespace
+
+bool explains(const Report& root, const Report& responder) { return row_for(root, responder) != nullptr; }
+
+std::vector<Verdict> isolate(const std::vector<Report>& reports, const IsolationConfig& c) {
+  const std::size_t n = reports.size();
+  std::vector<Verdict> out(n);
+  for (std::size_t r = 0; r < n; ++r) {
+    const Report& R = reports[r];
+    for (std::size_t s = 0; s < n; ++s) {
+      const Report& S = reports[s];
+      const Signature* row = s == r ? nullptr : row_for(S, R);
+      if (!row || R.t_detected < S.t_detected - c.lead) continue;  // R came long before: not S's echo
+      if (explains(R, S)) {
+        // Each explains the other: the one seen first is the root; a sensor wins a tie.
+        const bool s_first = S.t_detected < R.t_detected ||
+                             (S.t_detected == R.t_detected && S.component.find("sensor") != std::string::npos);
+        if (!s_first) continue;
+      }
+      out[r] = {true, S.component + " " + S.fault, row->why};
+      break;
+    }
+  }
+  // The same service on every blade's sensor at once: one common cause (the shared model, the wind, a shared
+  // input), not three sensor faults.
+  for (std::size_t r = 0; r < n; ++r) {
+    const Report& R = reports[r];
+    if (out[r].secondary || !is_blade_sensor_family(R.component) || !blade_of(R.component)) continue;
+    const std::string family = R.component.substr(0, R.component.size() - 1);
+    bool seen[3] = {false, false, false};
+    for (const auto& S : reports)
+      if (S.source == R.source && S.component.compare(0, family.size(), family) == 0 &&
+          S.component.size() == family.size() + 1 && std::fabs(S.t_detected - R.t_detected) <= c.common_window)
+        seen[blade_of(S.component) - '1'] = true;
+    if (seen[0] && seen[1] && seen[2])
+      out[r] = {true, "common cause on every blade",
+                "the same residual on all three blades at once is one shared cause, not three sensor faults"};
+  }
+  return out;
+}
+
+}  // namespace windfdi::isolation

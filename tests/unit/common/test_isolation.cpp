@@ -1,0 +1,131 @@
+// The fault-signature table row by row, the precedence of two reports that explain each other, and the
+// common cause on every blade.
+#include <gtest/gtest.h>
+
+#include "isolation.hpp"
+
+using namespace windfdi::isolation;
+
+namespace {
+
+Report report(const std::string& source, const std::string& component, const std::string& fault, double t) {
+  return {source, component, fault, t};
+}
+
+// A concrete root and responder for each row of the table (blade 2 where a row binds blades).
+struct RowCase {
+  const char* name;
+  Report root, responder;
+};
+void PrintTo(const RowCase& c, std::ostream* os) { *os << c.name; }
+
+class SignatureRow : public ::testing::TestWithParam<RowCase> {};
+
+TEST_P(SignatureRow, RootExplainsItsResponderAndNotTheOtherWayRound) {
+  const RowCase& k = GetParam();
+  // GIVEN the root detected first and the responder 2 s later
+  const auto v = isolate({k.root, k.responder});
+  // THEN the responder is secondary, explained by the root, and the root is not
+  EXPECT_FALSE(v[0].secondary) << k.name;
+  ASSERT_TRUE(v[1].secondary) << k.name;
+  EXPECT_EQ(v[1].explained_by, k.root.component + " " + k.root.fault);
+  EXPECT_FALSE(v[1].why.empty());
+  // AND a responder detected long (> lead) before the root is its own root
+  Report early = k.responder;
+  early.t_detected = k.root.t_detected - 60.0;
+  EXPECT_FALSE(isolate({k.root, early})[1].secondary) << k.name;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Table, SignatureRow,
+    ::testing::Values(
+        RowCase{"rotor_speed_blade_load", report("sensor_bias", "rotor_speed_sensor", "sensor_bias", 10),
+                report("blade_load", "blade_moment_sensor_1", "sensor_drift", 12)},
+        RowCase{"rotor_speed_pitch_diag", report("sensor_bias", "rotor_speed_sensor", "sensor_bias", 10),
+                report("pitch_diag", "pitch_actuator_3", "hydraulic_leakage", 12)},
+        RowCase{"rotor_speed_pitch_sensor", report("sensor_bias", "rotor_speed_sensor", "sensor_bias", 10),
+                report("sensor_bias", "pitch_sensor_2", "sensor_bias", 12)},
+        RowCase{"rotor_speed_ice", report("sensor_bias", "rotor_speed_sensor", "sensor_bias", 10),
+                report("ice_detect", "rotor", "ice_accretion", 12)},
+        RowCase{"generator_speed_blade_load", report("sensor_bias", "generator_speed_sensor", "sensor_bias", 10),
+                report("blade_load", "blade_moment_sensor_2", "sensor_abrupt", 12)},
+        RowCase{"generator_speed_pitch_diag", report("sensor_bias", "generator_speed_sensor", "sensor_bias", 10),
+                report("pitch_diag", "pitch_actuator_2", "hydraulic_leakage", 12)},
+        RowCase{"generator_speed_pitch_sensor",
+                report("sensor_bias", "generator_speed_sensor", "sensor_bias", 10),
+                report("sensor_bias", "pitch_sensor_1", "sensor_bias", 12)},
+        RowCase{"generator_speed_ice", report("sensor_bias", "generator_speed_sensor", "sensor_bias", 10),
+                report("ice_detect", "rotor", "ice_shedding", 12)},
+        RowCase{"pitch_sensor_actuator", report("sensor_bias", "pitch_sensor_2", "sensor_bias", 10),
+                report("pitch_diag", "pitch_actuator_2", "hydraulic_leakage", 12)},
+        RowCase{"pitch_sensor_blade_load", report("sensor_bias", "pitch_sensor_2", "sensor_bias", 10),
+                report("blade_load", "blade_moment_sensor_2", "sensor_abrupt", 12)},
+        RowCase{"pitch_actuator_sensor", report("pitch_diag", "pitch_actuator_2", "hydraulic_leakage", 10),
+                report("sensor_bias", "pitch_sensor_2", "sensor_bias", 12)},
+        RowCase{"pitch_actuator_blade_load", report("pitch_diag", "pitch_actuator_2", "pump_wear", 10),
+                report("blade_load", "blade_moment_sensor_2", "sensor_drift", 12)},
+        RowCase{"ice_blade_load", report("ice_detect", "rotor", "ice_accretion", 10),
+                report("blade_load", "blade_moment_sensor_2", "sensor_drift", 12)}),
+    [](const ::testing::TestParamInfo<RowCase>& info) { return std::string(info.param.name); });
+
+TEST(Isolation, EveryTableRowHasACase) {
+  // The parameterised cases above cover each row once; a new row needs a new case.
+  EXPECT_EQ(signature_table().size(), 13u);
+}
+
+TEST(Isolation, BladeBoundRowsDoNotCrossBlades) {
+  // A pitch sensor fault on blade 1 does not explain an actuator fault on blade 3.
+  const auto v = isolate({report("sensor_bias", "pitch_sensor_1", "sensor_bias", 10),
+                          report("pitch_diag", "pitch_actuator_3", "pump_wear", 12)});
+  EXPECT_FALSE(v[0].secondary);
+  EXPECT_FALSE(v[1].secondary);
+}
+
+TEST(Isolation, ASensorAndItsActuatorAreDecidedByWhichWasSeenFirst) {
+  const Report sensor = report("sensor_bias", "pitch_sensor_1", "sensor_bias", 2000.5);
+  Report actuator = report("pitch_diag", "pitch_actuator_1", "hydraulic_leakage", 2004.3);
+  // a stuck sensor first: the actuator report is its echo
+  auto v = isolate({sensor, actuator});
+  EXPECT_FALSE(v[0].secondary);
+  EXPECT_TRUE(v[1].secondary);
+  // a leak seen first: the pitch observer's bias is the echo
+  actuator.t_detected = 1990.0;
+  v = isolate({sensor, actuator});
+  EXPECT_TRUE(v[0].secondary);
+  EXPECT_FALSE(v[1].secondary);
+  EXPECT_EQ(v[0].explained_by, "pitch_actuator_1 hydraulic_leakage");
+  // a tie goes to the sensor
+  actuator.t_detected = sensor.t_detected;
+  EXPECT_TRUE(isolate({sensor, actuator})[1].secondary);
+}
+
+TEST(Isolation, TwoSpeedSensorsAreBothRoots) {
+  // The benchmark's 1000 s fault: both speed sensors with a gain fault at once.
+  const auto v = isolate({report("sensor_bias", "rotor_speed_sensor", "sensor_bias", 1000.2),
+                          report("sensor_bias", "generator_speed_sensor", "sensor_bias", 1000.1)});
+  EXPECT_FALSE(v[0].secondary);
+  EXPECT_FALSE(v[1].secondary);
+}
+
+TEST(Isolation, TheSameResidualOnEveryBladeIsACommonCause) {
+  std::vector<Report> r = {report("blade_load", "blade_moment_sensor_1", "sensor_abrupt", 1087),
+                           report("blade_load", "blade_moment_sensor_2", "sensor_drift", 1103)};
+  // two blades: two sensor faults as far as isolation can tell
+  for (const auto& v : isolate(r)) EXPECT_FALSE(v.secondary);
+  // the third within common_window: one common cause
+  r.push_back(report("blade_load", "blade_moment_sensor_3", "sensor_abrupt", 1102));
+  for (const auto& v : isolate(r)) {
+    EXPECT_TRUE(v.secondary);
+    EXPECT_EQ(v.explained_by, "common cause on every blade");
+  }
+  // the third long after: no common cause
+  r.back().t_detected = 1200;
+  EXPECT_FALSE(isolate(r)[2].secondary);
+  // pitch actuators are not a sensor family: a fault on all three is three actuator reports
+  const auto a = isolate({report("pitch_diag", "pitch_actuator_1", "pump_wear", 10),
+                          report("pitch_diag", "pitch_actuator_2", "pump_wear", 11),
+                          report("pitch_diag", "pitch_actuator_3", "pump_wear", 12)});
+  for (const auto& v : a) EXPECT_FALSE(v.secondary);
+}
+
+}  // namespace
