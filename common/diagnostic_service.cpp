@@ -3,6 +3,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <fstream>
 #include <map>
 
 #include "app.hpp"
@@ -40,12 +42,43 @@ bool feed(const ServiceSpec& spec, const std::string& id, TurbineDiagnoser& d, c
   return ok;
 }
 
-int run_replay_mode(const ServiceSpec& spec, const ReplayOptions& options) {
+// Other services' events of a replay (--context): the suspect inputs they declare, applied in sample time.
+std::vector<FaultEvent> read_context_events(const std::string& file) {
+  std::vector<FaultEvent> out;
+  if (file.empty()) return out;
+  std::ifstream in(file);
+  if (!in) throw ConfigError(file, 0, "", "cannot open the --context events file");
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    try {
+      out.push_back(fault_event_from_json(nlohmann::json::parse(line)));
+    } catch (const std::exception& e) {
+      throw ConfigError(file, n, "", std::string("not a fault event: ") + e.what());
+    }
+  }
+  std::stable_sort(out.begin(), out.end(), [](const FaultEvent& a, const FaultEvent& b) { return a.t < b.t; });
+  return out;
+}
+
+int run_replay_mode(const ServiceSpec& spec, const ReplayOptions& options, const std::string& context_file) {
   std::map<std::string, std::unique_ptr<TurbineDiagnoser>> turbines;
+  const auto context_events = read_context_events(context_file);
+  std::size_t next_context = 0;
+  std::map<std::string, InputContextTracker> contexts;
   const auto stats = run_replay(options, spec.estimate_columns,
                                 [&](const std::string& id, const FrameSample& s, bool gap, ReplaySink& sink) {
                                   auto& d = turbines[id];
                                   if (!d) d = spec.make(id);
+                                  for (; next_context < context_events.size() &&
+                                         context_events[next_context].t <= s.t;
+                                       ++next_context) {
+                                    const FaultEvent& e = context_events[next_context];
+                                    auto& tracker = contexts.try_emplace(e.turbine_id, spec.name).first->second;
+                                    if (!tracker.on_fault(e)) continue;
+                                    const auto it = turbines.find(e.turbine_id.empty() ? id : e.turbine_id);
+                                    if (it != turbines.end() && it->second) it->second->set_context(tracker.context(), s.t);
+                                  }
                                   return feed(
                                       spec, id, *d, s, gap, [&](FaultEvent& e) { sink.event(e); },
                                       [&] { sink.estimate(s.t, id, last_values()); });
@@ -76,11 +109,18 @@ int run_node(const ServiceSpec& spec, const CommonOptions& common) {
     });
   const EstimatePublisher publish = spec.make_publisher ? spec.make_publisher(node.participant()) : nullptr;
   spdlog::info("{} running{}", spec.name, common.turbines.empty() ? " for every turbine" : "");
+  std::map<std::string, InputContext> given;  // the context each diagnoser has
   node.run([&](const std::string& id, const FrameSample& sample, bool gap) {
     auto& d = turbines[id];
     if (!d) {
       d = spec.make(id);
       spdlog::info("{}: diagnosing turbine {}", spec.name, id);
+    }
+    const InputContext& context = node.context(id);
+    auto& had = given[id];
+    if (!(had == context)) {
+      had = context;
+      d->set_context(context, sample.t);
     }
     FrameSample s = sample;
     if (spec.wants_lidar) {
@@ -124,12 +164,15 @@ int run_diagnostic_service(int argc, char** argv, const ServiceSpec& spec) {
   app.add_option("--replay", replay.frames, "run offline on a recorded CSV (plain or .gz) instead of DDS");
   app.add_option("--estimates", replay.estimates, "replay: write the estimates CSV here");
   app.add_option("--events", replay.events, "replay: write the fault events (JSON Lines) here");
+  std::string context_file;
+  app.add_option("--context", context_file,
+                 "replay: other services' fault events (JSON Lines); inputs they declare faulty are suspect");
   return run_main(app, argc, argv, common, [&] {
     spec.configure(config_file.empty() ? YamlSection(YAML::Node(YAML::NodeType::Map), "(defaults)")
                                        : YamlSection::load_file(config_file));
-    if (!replay.frames.empty()) return run_replay_mode(spec, replay);
-    if (!replay.estimates.empty() || !replay.events.empty())
-      throw ConfigError("--estimates/--events", 0, "", "only meaningful with --replay FILE");
+    if (!replay.frames.empty()) return run_replay_mode(spec, replay, context_file);
+    if (!replay.estimates.empty() || !replay.events.empty() || !context_file.empty())
+      throw ConfigError("--estimates/--events/--context", 0, "", "only meaningful with --replay FILE");
     return run_node(spec, common);
   });
 }

@@ -10,6 +10,7 @@
 #include "dds/participant.hpp"
 #include "fault_event.hpp"
 #include "frame_sample.hpp"
+#include "input_context.hpp"
 #include "turbine_params.hpp"
 #include "yaml_config.hpp"
 
@@ -25,6 +26,12 @@ class TurbineDiagnoser {
   /// True when an estimate is due after the last update (the service's output rate); then `values`
   /// holds one text per estimate column.
   virtual bool estimate_due(std::vector<std::string>& values) = 0;
+  /// What other services and the arbiter say about this turbine's inputs, in force from sample time `t`
+  /// (input_context.hpp). A core that relies on a suspect input holds its judgement; the default ignores it.
+  virtual void set_context(const InputContext& context, double t) {
+    (void)context;
+    (void)t;
+  }
 };
 
 /// Publishes a turbine's current estimate on DDS (created once per process with the participant).

@@ -13,7 +13,38 @@ DiagnosticNode::DiagnosticNode(const CommonOptions& options, const std::string& 
       participant_(participant_options(options, "windfdi-" + service)),
       frames_(participant_, options.turbines, &wakeup_),
       faults_(participant_),
-      health_(participant_, service, options.turbines) {}
+      health_(participant_, service, options.turbines),
+      other_faults_(participant_, options.turbines, &wakeup_),
+      configurations_(participant_, options.turbines, &wakeup_) {}
+
+const InputContext& DiagnosticNode::context(const std::string& turbine_id) {
+  return contexts_.try_emplace(turbine_id, service_).first->second.context();
+}
+
+void DiagnosticNode::take_context() {
+  std::vector<windfdi::FaultReport> reports;
+  other_faults_.take(reports);
+  for (const auto& r : reports) {
+    auto& tracker = contexts_.try_emplace(r.turbine_id(), service_).first->second;
+    if (tracker.on_fault(bus::to_event(r)))
+      spdlog::info("{}: {} {} {} by {}: inputs that rely on it are suspect", r.turbine_id(), r.component(),
+                   bus::fault_class_name(r.fault_class()),
+                   r.state() == windfdi::FAULT_STATE_RAISED ? "raised" : "cleared", r.source());
+  }
+  std::vector<windfdi::ControlConfiguration> configs;
+  configurations_.take(configs);
+  for (const auto& c : configs) {
+    // The control content only: a republished configuration, or new reasons alone, moves nothing.
+    std::string content = std::to_string(c.mode()) + "/" + std::to_string(c.ipc_source()) + "/" +
+                          std::to_string(c.use_corrected_rotor_speed()) +
+                          std::to_string(c.use_corrected_generator_speed()) + "/" + std::to_string(c.ice_mode());
+    for (int i = 0; i < 3; ++i)
+      content += "/" + std::to_string(c.use_corrected_pitch()[i]) + std::to_string(c.pitch_rate_limit()[i]);
+    auto& last = last_control_[c.turbine_id()];
+    if (!last.empty() && last != content) contexts_.try_emplace(c.turbine_id(), service_).first->second.on_reconfiguration();
+    last = content;
+  }
+}
 
 void DiagnosticNode::subscribe_lidar(LidarFn on_lidar) {
   on_lidar_ = std::move(on_lidar);
@@ -40,6 +71,7 @@ void DiagnosticNode::run(const SampleFn& process, const std::function<void(doubl
   double last_periodic = 0.0;
   while (!shutdown_requested()) {
     wakeup_.wait_for(std::chrono::milliseconds(100));
+    take_context();
     if (lidar_) {
       lidar.clear();
       lidar_->take(lidar);

@@ -7,6 +7,8 @@
 #include <memory>
 #include <string>
 
+#include "ControlConfiguration.h"
+#include "FaultReport.h"
 #include "LidarFrame.h"
 #include "TurbineFrame.h"
 #include "app.hpp"
@@ -14,6 +16,7 @@
 #include "fault_event.hpp"
 #include "frame_sample.hpp"
 #include "health.hpp"
+#include "input_context.hpp"
 #include "replay.hpp"
 
 namespace windfdi {
@@ -37,6 +40,9 @@ class DiagnosticNode {
   /// least every 100 ms (estimate publishing at the service's rate, health).
   void run(const SampleFn& process, const std::function<void(double)>& periodic = {});
 
+  /// What other services and the arbiter say about a turbine's inputs (empty context before anything).
+  const InputContext& context(const std::string& turbine_id);
+
   /// Publishes a raised or cleared fault (FaultReport) and logs it. An event with a non-canonical
   /// class is logged and counted, never published.
   void publish(const FaultEvent& event);
@@ -50,6 +56,12 @@ class DiagnosticNode {
   bus::Writer<windfdi::FaultReport> faults_;
   HealthReporter health_;
   std::unique_ptr<bus::Reader<windfdi::LidarFrame>> lidar_;
+  // Other services' faults and the arbiter's configurations: the inputs' context (input_context.hpp).
+  bus::Reader<windfdi::FaultReport> other_faults_;
+  bus::Reader<windfdi::ControlConfiguration> configurations_;
+  std::map<std::string, InputContextTracker> contexts_;
+  std::map<std::string, std::string> last_control_;  // turbine -> the control content last seen
+  void take_context();
   LidarFn on_lidar_;
   std::map<std::string, SequenceTracker> sequence_;
 };

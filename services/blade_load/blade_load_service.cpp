@@ -53,6 +53,7 @@ class BladeLoadDiagnoser : public TurbineDiagnoser {
     }
     return ok;
   }
+  void set_context(const InputContext& context, double t) override { monitor_.set_context(context, t); }
   bool estimate_due(std::vector<std::string>& values) override {
     if (!monitor_.estimate_due(last_)) return false;
     values.clear();

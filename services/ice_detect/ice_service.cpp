@@ -66,6 +66,7 @@ class IceDiagnoser : public TurbineDiagnoser {
     if (!aero_power_.push(s, gap, centre, centre_gap, power)) return true;  // judged half a window later
     return detector_.update(centre, power, centre_gap, events);
   }
+  void set_context(const InputContext& context, double) override { detector_.set_context(context); }
   bool estimate_due(std::vector<std::string>& values) override {
     if (!detector_.estimate_due(last_)) return false;
     values = {format_number(last_.inertia), format_number(last_.ice_mass), last_.excited ? "1" : "0"};

@@ -49,6 +49,7 @@ class PitchTurbine : public TurbineDiagnoser {
     for (bool x : last_.excited) values.push_back(x ? "1" : "0");
     return true;
   }
+  void set_context(const InputContext& context, double t) override { diagnoser_.set_context(context, t); }
   const PitchEstimate& last() const { return last_; }
 
  private:

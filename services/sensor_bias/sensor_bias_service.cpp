@@ -30,6 +30,7 @@ class BiasDiagnoser : public TurbineDiagnoser {
     values.push_back(format_number(o.aero_torque));
     return true;
   }
+  void set_context(const InputContext& context, double t) override { est_.set_context(context, t); }
   const BiasOutput& last() const { return est_.output(); }
 
  private:

@@ -20,7 +20,7 @@ const char* channel_name(int c) {
 }
 
 BladeLoadMonitor::BladeLoadMonitor(const MonitorConfig& config, LoadTable table)
-    : cfg_(config), table_(std::move(table)), lidar_(config.model, &table_) {
+    : cfg_(config), table_(std::move(table)), lidar_(config.model, &table_), suspects_(config.context_hold) {
   for (int b = 0; b < 3; ++b) {
     sensor_[b] = std::make_unique<HarmonicEstimator>(cfg_.harmonic);
     model_[b] = std::make_unique<HarmonicEstimator>(cfg_.harmonic);
@@ -136,6 +136,10 @@ bool BladeLoadMonitor::update(const FrameSample& s, bool gap, std::vector<FaultE
           model_sensitivity(lidar_.lambda(), pitch_lp_[b]) > cfg_.gate_max_sensitivity)
         steep = true;
     }
+    if (inputs_suspect(s)) {
+      steep = true;
+      ++suspect_samples_;
+    }
     if (steep) {
       since_steep_ = 0;
       ++gated_samples_;
@@ -216,6 +220,28 @@ double BladeLoadMonitor::model_sensitivity(double lambda, double pitch_deg) cons
   const double k0 = table_.k(lambda, pitch_deg - d), k1 = table_.k(lambda, pitch_deg), k2 = table_.k(lambda, pitch_deg + d);
   const double hi = std::max({k0, k1, k2}), lo = std::min({k0, k1, k2});
   return hi > 0 ? (hi - lo) / hi : 0.0;
+}
+
+bool BladeLoadMonitor::inputs_suspect(const FrameSample& s) {
+  // Redundancy first (no other service needed): the two speed sensors, and each pitch reading against its
+  // reference, low-passed over 0.5 s (sensor noise 0.025 rad/s, 0.2 deg).
+  const double a = cfg_.harmonic.dt / (0.5 + cfg_.harmonic.dt);
+  bool suspect = false;
+  if (cfg_.speed_mismatch > 0.0 && cfg_.gear_ratio > 0.0 && std::isfinite(s.generator_speed) &&
+      (s.valid_mask & kValidGeneratorSpeed)) {
+    const double m = std::fabs(s.rotor_speed - s.generator_speed / cfg_.gear_ratio) / std::max(s.rotor_speed, 0.1);
+    speed_mismatch_lp_ += a * (std::min(m, 1.0) - speed_mismatch_lp_);
+    suspect |= speed_mismatch_lp_ > cfg_.speed_mismatch;
+  }
+  for (int b = 0; b < 3; ++b) {
+    if (cfg_.pitch_mismatch <= 0.0 || !std::isfinite(s.pitch[b]) || !std::isfinite(s.pitch_ref[b])) continue;
+    pitch_mismatch_lp_[b] += a * (std::fabs(s.pitch[b] - s.pitch_ref[b]) - pitch_mismatch_lp_[b]);
+    suspect |= pitch_mismatch_lp_[b] > cfg_.pitch_mismatch;
+  }
+  // Then what the other services and the arbiter say.
+  const InputContext& c = suspects_.context();
+  for (int b = 0; b < 3; ++b) suspect |= c.pitch_sensor_suspect[b] || c.pitch_actuator_suspect[b];
+  return suspect || c.speed_suspect() || suspects_.in_transient(s.t);
 }
 
 bool BladeLoadMonitor::gated() const {

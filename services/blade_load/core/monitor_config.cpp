@@ -13,7 +13,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "lidar_distance", "lidar_half_span", "tower_shadow", "shadow_width", "advection_time",
                         "estimate_rate", "min_rotor_speed", "max_moment", "invalid_time",
                         "significance", "drift_significance", "drift_window", "learn_time", "min_learn_revolutions",
-                        "healthy_adapt_time", "confirm_time", "confirm_revolutions", "onset_ratio", "fast_ratio", "fast_confirm_time", "gate_pitch_margin", "gate_max_sensitivity", "gate_pitch_filter", "isolation_ratio", "robust_clip", "abrupt_ratio", "abrupt_lookback", "return_time",
+                        "healthy_adapt_time", "confirm_time", "confirm_revolutions", "onset_ratio", "fast_ratio", "fast_confirm_time", "gate_pitch_margin", "gate_max_sensitivity", "gate_pitch_filter", "speed_mismatch", "pitch_mismatch", "context_hold", "isolation_ratio", "robust_clip", "abrupt_ratio", "abrupt_lookback", "return_time",
                         "intermittent_window", "clear_time", "witness", "witness_significance", "mean_test", "adapt",
                         "uniform_shear", "adapt_revolutions", "adapt_gain", "adapt_bound", "adapt_sigma_lambda",
                         "adapt_sigma_pitch"});
@@ -58,6 +58,10 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   c.gate_pitch_margin = y.get_number("gate_pitch_margin", c.gate_pitch_margin, 0.0, 5.0);
   c.gate_max_sensitivity = y.get_number("gate_max_sensitivity", c.gate_max_sensitivity, 0.01, 1.0);
   c.gate_pitch_filter = y.get_number("gate_pitch_filter", c.gate_pitch_filter, 0.0, 10.0);
+  c.gear_ratio = turbine.gear_ratio;
+  c.speed_mismatch = y.get_number("speed_mismatch", c.speed_mismatch, 0.0, 1.0);
+  c.pitch_mismatch = y.get_number("pitch_mismatch", c.pitch_mismatch, 0.0, 90.0);
+  c.context_hold = y.get_number("context_hold", c.context_hold, 0.0, 3600.0);
   c.isolation_ratio = y.get_number("isolation_ratio", c.isolation_ratio, 0.0, 2.0);
   c.robust_clip = y.get_number("robust_clip", c.robust_clip, 1.0, 100.0);
   c.abrupt_ratio = y.get_number("abrupt_ratio", c.abrupt_ratio, 0.0, 1.0);

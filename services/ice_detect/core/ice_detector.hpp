@@ -7,6 +7,7 @@
 
 #include "fault_event.hpp"
 #include "frame_sample.hpp"
+#include "input_context.hpp"
 #include "inertia_estimator.hpp"
 #include "turbine_params.hpp"
 #include "yaml_config.hpp"
@@ -40,6 +41,8 @@ struct DetectorConfig {
   double min_generator_speed = 30.0;  ///< rad/s below which the estimator is not fed (standstill)
   double min_gen_torque = 3000.0;     ///< N m; below it the turbine is not producing (stopping): not fed
   double max_pitch = 30.0;            ///< deg; above it (feathering) the power model is not trusted: not fed
+  double speed_mismatch = 0.05;       ///< relative |omega_g / N - omega_r| / omega_r (0.5 s low-pass) above which the
+                                      ///< speed sensors disagree: the generator speed is suspect, not fed (0: off)
 };
 
 /// Loads the `ice_detect` keys (unknown keys and out-of-range values are ConfigErrors).
@@ -67,6 +70,10 @@ class IceDetector {
   bool estimate_due(InertiaOutput& out);
 
   uint64_t rejected() const { return rejected_; }
+  /// Samples not fed because the generator speed was suspect (speed_mismatch, or another service's fault on a
+  /// speed sensor): the inertia is estimated from it, so the estimate is held instead.
+  uint64_t suspect_samples() const { return suspect_samples_; }
+  void set_context(const InputContext& context) { context_ = context; }
   const InertiaEstimator& estimator() const { return estimator_; }
 
  private:
@@ -91,7 +98,10 @@ class IceDetector {
   double above_since_ = -1.0, below_since_ = -1.0;
   double shed_raised_at_ = -1.0;
   uint64_t power_changes_seen_ = 0;
-  double shed_last_ = -1.0;  // time the last shedding was raised
+  double shed_last_ = -1.0;
+  InputContext context_;
+  double speed_mismatch_lp_ = 0.0;
+  uint64_t suspect_samples_ = 0;  // time the last shedding was raised
   uint64_t rejected_ = 0;
 };
 

@@ -51,6 +51,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s) {
                         "abrupt_time",
                         "shared_alpha", "short_max_alpha",
                         "max_tracking_error",
+                        "startup_settle", "context_hold", "hold_settle", "stuck_time",
                         "pitch_min",
                         "pitch_max"});
   PitchDiagConfig c;
@@ -111,6 +112,10 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s) {
   c.shared_alpha = s.get_number("shared_alpha", c.shared_alpha, 0.0, 1.0);
   c.short_max_alpha = s.get_number("short_max_alpha", c.short_max_alpha, 1.0, 1.5);
   c.max_tracking_error = s.get_number("max_tracking_error", c.max_tracking_error, 0.0, 180.0);
+  c.startup_settle = s.get_number("startup_settle", c.startup_settle, 0.0, 3600.0);
+  c.context_hold = s.get_number("context_hold", c.context_hold, 0.0, 3600.0);
+  c.hold_settle = s.get_number("hold_settle", c.hold_settle, 0.0, 3600.0);
+  c.stuck_time = s.get_number("stuck_time", c.stuck_time, 0.0, 60.0);
   c.pitch_min = s.get_number("pitch_min", c.pitch_min, -90.0, 90.0);
   c.pitch_max = s.get_number("pitch_max", c.pitch_max, c.pitch_min, 180.0);
   return c;
@@ -195,8 +200,11 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<PitchEvent>& events) 
       cls_.fault_class = "none";  // too early on the longer path
   }
   const std::string& cls = cls_.fault_class;
-  // Confirmation: the same class for confirm_time of excited data.
-  if (cls != candidate_ || std::abs(cls_.alpha - candidate_alpha_) > cfg_->alpha_settle) {
+  // Confirmation: the same class for confirm_time of excited data (none while settling after a start or hold).
+  if (t < decide_from_) {
+    candidate_ = "none";
+    pending_ = 0.0;
+  } else if (cls != candidate_ || std::abs(cls_.alpha - candidate_alpha_) > cfg_->alpha_settle) {
     if (cls != candidate_) candidate_since_ = t;
     candidate_ = cls;
     candidate_alpha_ = cls_.alpha;
@@ -231,7 +239,7 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<PitchEvent>& events) 
   }
 }
 
-PitchDiagnoser::PitchDiagnoser(const PitchDiagConfig& config) : cfg_(config) {
+PitchDiagnoser::PitchDiagnoser(const PitchDiagConfig& config) : cfg_(config), suspects_(config.context_hold) {
   for (int i = 0; i < kBlades; ++i) blades_.emplace_back(cfg_, i);
 }
 
@@ -239,10 +247,17 @@ void PitchDiagnoser::update(const FrameSample& s, std::vector<PitchEvent>& event
   if (have_last_ && s.sequence != last_sequence_ + 1) {
     // Lost samples: y(t-1), y(t-2) of the regressor are not the previous samples any more.
     ++gaps_;
-    for (auto& b : blades_) b.restart();
+    for (auto& b : blades_) {
+      b.restart();
+      b.decide_from(s.t + cfg_.startup_settle);
+    }
   }
+  if (!have_last_)  // a start, or a restart on a running turbine: the level filters and evidence are young
+    for (auto& b : blades_) b.decide_from(s.t + cfg_.startup_settle);
   have_last_ = true;
   last_sequence_ = s.sequence;
+  const bool transient = suspects_.in_transient(s.t);
+  const int stuck_samples = static_cast<int>(std::lround(cfg_.stuck_time / cfg_.identifier.T));
   for (int i = 0; i < kBlades; ++i) {
     const double u = s.pitch_ref[i], y = s.pitch[i];
     const bool marked = (s.valid_mask & (kValidPitch1 << i)) && (s.valid_mask & (kValidPitchRef1 << i));
@@ -251,6 +266,17 @@ void PitchDiagnoser::update(const FrameSample& s, std::vector<PitchEvent>& event
     if (!ok) {
       ++rejected_[i];
       blades_[i].restart();  // never fed; the history is broken
+      continue;
+    }
+    // A reading repeated to the last bit is a stuck sensor (a healthy one carries noise): the actuator model
+    // would read the fixed value as a slow actuator.
+    repeated_[i] = y == last_y_[i] ? repeated_[i] + 1 : 0;
+    last_y_[i] = y;
+    const bool stuck = cfg_.stuck_time > 0.0 && repeated_[i] >= stuck_samples;
+    if (transient || stuck || suspects_.context().pitch_sensor_suspect[i]) {
+      ++held_[i];
+      blades_[i].hold();
+      blades_[i].decide_from(s.t + cfg_.hold_settle);
       continue;
     }
     if (cfg_.max_tracking_error > 0.0 && std::fabs(u - y) > cfg_.max_tracking_error) {

@@ -2,6 +2,7 @@
 // Table 1 classification with the fault indicator alpha of eqs 11-13, confirmation, hysteresis and events.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <string>
@@ -9,6 +10,7 @@
 
 #include "frame_sample.hpp"
 #include "identifier.hpp"
+#include "input_context.hpp"
 #include "pitch_model.hpp"
 #include "yaml_config.hpp"
 
@@ -33,6 +35,16 @@ struct PitchDiagConfig {
   double max_tracking_error = 5.0;  ///< deg; |reference - pitch| above it means the actuator is at its rate
                                     ///< limit (a safe stop's jump to feather): the linear model does not hold
                                     ///< and nothing is identified. Healthy lag 1 deg at 10 deg/s; 0 disables
+  double startup_settle = 30.0;     ///< s of sample time after the first sample (a start or a restart on a
+                                    ///< running turbine) and after a sequence gap before any class counts
+                                    ///< towards confirmation: the bank's evidence is still young (a healthy
+                                    ///< actuator read as a leak at 4.5 s, and 3.8 s after a restart)
+  double context_hold = 10.0;       ///< s of sample time after the inputs' context changed (another service
+                                    ///< raised or cleared a fault on an input; the arbiter reconfigured) during
+                                    ///< which every blade is held: the controller's transient is not a fault
+  double hold_settle = 10.0;        ///< s after a hold ends before a class counts again (5 bank memories)
+  double stuck_time = 0.2;          ///< s of an exactly repeated pitch measurement that is a stuck sensor: the
+                                    ///< blade is held (a stuck sensor is not a slow actuator). 0 disables
   double pitch_min = -5.0;          ///< deg; pitch or reference below it is rejected
   double pitch_max = 95.0;          ///< deg; above it is rejected
 };
@@ -75,6 +87,15 @@ class BladeDiagnoser {
   /// One valid sample (u reference, y measured pitch, deg).
   void update(double u, double y) { id_.update(u, y); }
   void restart() { id_.restart(); }
+  /// Held (suspect input, start-up, a context transient): nothing identified, and a class in confirmation
+  /// starts again afterwards. A raised fault stays raised.
+  void hold() {
+    id_.restart();
+    candidate_ = "none";
+    pending_ = 0.0;
+  }
+  /// No class counts towards confirmation before sample time t (the identification runs on).
+  void decide_from(double t) { decide_from_ = std::max(decide_from_, t); }
   /// A decision tick at time t (s): classification, confirmation and hysteresis.
   void tick(double t, double dt, std::vector<PitchEvent>& events);
 
@@ -96,6 +117,7 @@ class BladeDiagnoser {
   std::string raised_;  // "" when nothing is raised
   std::string raised_severity_;
   double raised_detected_ = 0.0;
+  double decide_from_ = -1e300;  // sample time before which no class is confirmed
   double excited_since_healthy_ = 0.0;  // s of excited data since the blade last looked healthy
   double shared_reached_after_ = -1.0;  // that excited time when it first reached the pump-wear point
 };
@@ -116,6 +138,11 @@ class PitchDiagnoser {
   uint64_t gaps() const { return gaps_; }
   /// Samples of blade i left out because its actuator was at its rate limit (max_tracking_error).
   uint64_t saturated(int blade) const { return saturated_[blade]; }
+  /// Samples of blade i held because an input was suspect (another service's fault, a stuck pitch reading,
+  /// a context transient) or the diagnoser was settling after a start.
+  uint64_t held(int blade) const { return held_[blade]; }
+  /// The inputs' context (input_context.hpp) from sample time t on.
+  void set_context(const InputContext& context, double t) { suspects_.set(context, t); }
   const BladeDiagnoser& blade(int i) const { return blades_[i]; }
   const PitchDiagConfig& config() const { return cfg_; }
 
@@ -124,6 +151,10 @@ class PitchDiagnoser {
   std::vector<BladeDiagnoser> blades_;
   std::array<uint64_t, kBlades> rejected_{};
   std::array<uint64_t, kBlades> saturated_{};
+  std::array<uint64_t, kBlades> held_{};
+  SuspectHold suspects_;
+  std::array<double, kBlades> last_y_{};
+  std::array<int, kBlades> repeated_{};  // consecutive samples with the same pitch reading
   uint64_t gaps_ = 0;
   bool have_last_ = false;
   uint64_t last_sequence_ = 0;

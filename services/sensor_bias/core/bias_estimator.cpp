@@ -18,7 +18,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   s.require_known_keys({"turbine_file", "mode", "drive_train_gains", "pitch_gains", "paper_drive_train_gains",
                         "paper_pitch_gains", "threshold_rotor_speed", "threshold_generator_speed", "threshold_pitch",
                         "raise_time", "clear_ratio", "clear_time", "filter_time", "settle_time", "witness_torque_min",
-                        "max_tracking_error",
+                        "max_tracking_error", "stuck_time",
                         "differential_confirm", "rotor_speed_max",
                         "generator_speed_max", "torque_max", "wind_max", "pitch_min", "pitch_max"});
   BiasConfig c;
@@ -43,6 +43,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   c.settle_time = s.get_number("settle_time", c.settle_time, 0.0, 3600.0);
   c.witness_torque_min = s.get_number("witness_torque_min", c.witness_torque_min, 1.0, 1e9);
   c.max_tracking_error = s.get_number("max_tracking_error", c.max_tracking_error, 0.0, 90.0);
+  c.stuck_time = s.get_number("stuck_time", c.stuck_time, 0.0, 60.0);
   c.differential_confirm = s.get_number("differential_confirm", c.differential_confirm, 0.0, 1.0);
   c.rotor_speed_max = s.get_number("rotor_speed_max", c.rotor_speed_max, 0.1, 100.0);
   c.generator_speed_max = s.get_number("generator_speed_max", c.generator_speed_max, 1.0, 10000.0);
@@ -89,6 +90,7 @@ BiasEstimator::BiasEstimator(const BiasConfig& config, const GainFile& dt, const
   // The converter is first order: over a sample of T the mean torque moves (tau/T)(1 - exp(-T/tau)) of the way
   // from the measured torque to its reference.
   const double T = dt.sample_time, tau = turbine.converter_time_constant;
+  dt_ = T;
   torque_avg_ = tau > 0.0 ? 1.0 - tau / T * (1.0 - std::exp(-T / tau)) : 1.0;
   auto inv = [](double b) { return b > 0.0 ? 1.0 / b : 0.0; };
   for (int j = 0; j < 2; ++j)
@@ -148,7 +150,17 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       if (!pitch_init_[static_cast<std::size_t>(i)]) o.reset(Eigen::Vector4d(y, 0.0, 0.0, 0.0));
       const Eigen::Vector2d held = o.state().tail<2>();
       o.step(yv, uv);
-      if (cfg_.max_tracking_error > 0.0 && std::fabs(r - y) > cfg_.max_tracking_error) {
+      const std::size_t b = static_cast<std::size_t>(i);
+      repeated_[b] = y == last_pitch_[b] ? repeated_[b] + 1 : 0;
+      last_pitch_[b] = y;
+      const bool stuck = cfg_.stuck_time > 0.0 && repeated_[b] * dt_ >= cfg_.stuck_time;
+      if (context_.pitch_actuator_suspect[b]) {
+        // Another service (pitch_diag) reports this blade's actuator: the observer's healthy actuator model
+        // would turn the actuator's fault into a sensor bias. Hold, as below.
+        o.state().tail<2>() = held;
+        o.state()(0) = y - held(0);
+        ++actuator_holds_;
+      } else if (!stuck && cfg_.max_tracking_error > 0.0 && std::fabs(r - y) > cfg_.max_tracking_error) {
         // Rate-limited: the measured 28-31 deg lag of a safe stop's feathering ramp read as a bias on healthy
         // blades (end to end). Hold the bias (and its rate); the angle follows the measurement.
         o.state().tail<2>() = held;

@@ -8,6 +8,7 @@
 #include "design_input.hpp"
 #include "fault_event.hpp"
 #include "frame_sample.hpp"
+#include "input_context.hpp"
 #include "observers.hpp"
 #include "turbine_params.hpp"
 #include "yaml_config.hpp"
@@ -36,6 +37,9 @@ struct BiasConfig {
   /// Observer mode: while |pitch reference - pitch| exceeds this (deg) the actuator runs at its rate limit (a
   /// safe stop's jump to feather), where the linear actuator model does not hold: the pitch bias is held. 0: off.
   double max_tracking_error = 5.0;
+  /// s of a pitch reading repeated to the last bit: a stuck sensor (a healthy one carries noise). Its tracking
+  /// error is the fault itself, so the rate-limit hold above does not apply to it. 0: off.
+  double stuck_time = 0.2;
   /// Observer mode: a speed sensor is flagged only when the differential b_r - b_g / N (what the two speed
   /// sensors alone can see) confirms it with the same sign and at least this share of the threshold.
   double differential_confirm = 0.5;
@@ -99,6 +103,14 @@ class BiasEstimator {
   uint64_t rejected() const { return rejected_; }
   /// Pitch samples on which the bias was held because the actuator was rate limited (max_tracking_error).
   uint64_t tracking_holds() const { return tracking_holds_; }
+  /// Pitch samples on which the bias was held because another service reported the blade's actuator faulty:
+  /// the observer's actuator model no longer holds, and what it would see is the actuator's fault.
+  uint64_t actuator_holds() const { return actuator_holds_; }
+  /// The inputs' context (input_context.hpp) from sample time t on.
+  void set_context(const InputContext& context, double t) {
+    (void)t;
+    context_ = context;
+  }
   uint64_t fed_drive_train() const { return fed_dt_; }
   uint64_t witness_used() const { return witness_used_; }  ///< drive-train samples with the power witness
   const std::array<bool, kChannels>& raised() const { return raised_; }
@@ -114,6 +126,7 @@ class BiasEstimator {
   double torque_avg_;    // share of a torque step the converter delivers on average over one sample
   double aero_damping_;  // N m s/rad folded into the drive train's A by the design (added back to the input)
   std::array<double, kChannels> inv_bias_bound_{};  // 1 / the design's bias-error bound (0: none)
+  double dt_ = 0.01;       // s, the observers' sample time (from the gain file)
   double filter_a_ = 1.0;  // detector low-pass coefficient per sample, 1 - exp(-T / filter_time), formed once
   // States [omega_r, omega_g, theta, b_r, b_g, r_r, r_g] and [beta, beta_dot, b, r]: the bias-rate states r
   // of the integrated-random-walk design; a random-walk gain file (5 and 3 states) is loaded with them held
@@ -131,7 +144,10 @@ class BiasEstimator {
   std::array<bool, kChannels> raised_{};
   BiasOutput out_;
   bool has_output_ = false;
-  uint64_t rejected_ = 0, fed_dt_ = 0, witness_used_ = 0, tracking_holds_ = 0;
+  uint64_t rejected_ = 0, fed_dt_ = 0, witness_used_ = 0, tracking_holds_ = 0, actuator_holds_ = 0;
+  InputContext context_;
+  std::array<double, 3> last_pitch_{};
+  std::array<int, 3> repeated_{};  // consecutive samples with the same pitch reading
 };
 
 }  // namespace windfdi::sensor_bias

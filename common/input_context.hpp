@@ -1,0 +1,73 @@
+// What the rest of the system says about one turbine's measured inputs: faults other services have raised
+// on them, and the arbiter's reconfigurations. Diagnostic cores use it to hold judgement on spoiled inputs.
+#pragma once
+
+#include <array>
+#include <limits>
+#include <map>
+#include <string>
+
+#include "fault_event.hpp"
+
+namespace windfdi {
+
+/// The suspect inputs of one turbine (ARCHITECTURE "Isolation", first layer): a core that relies on a
+/// suspect input uses a redundant value or holds its judgement instead of raising a fault of its own.
+struct InputContext {
+  bool rotor_speed_suspect = false;
+  bool generator_speed_suspect = false;
+  std::array<bool, 3> pitch_sensor_suspect{};    ///< measured pitch of blade i
+  std::array<bool, 3> pitch_actuator_suspect{};  ///< the actuator of blade i (its measured pitch is true)
+  /// Counts the changes a transient follows: a suspect set that changed (the controller may switch to a
+  /// corrected measurement) or a new control configuration from the arbiter.
+  uint64_t transitions = 0;
+
+  bool speed_suspect() const { return rotor_speed_suspect || generator_speed_suspect; }
+  bool operator==(const InputContext& o) const {
+    return rotor_speed_suspect == o.rotor_speed_suspect && generator_speed_suspect == o.generator_speed_suspect &&
+           pitch_sensor_suspect == o.pitch_sensor_suspect && pitch_actuator_suspect == o.pitch_actuator_suspect &&
+           transitions == o.transitions;
+  }
+};
+
+/// Builds a turbine's InputContext from other services' fault reports and the arbiter's configurations.
+class InputContextTracker {
+ public:
+  /// `own_service`: the tracking service's own reports are not context (they are its judgement).
+  explicit InputContextTracker(std::string own_service) : own_(std::move(own_service)) {}
+  /// A raised or cleared FaultReport of any service. Returns true when the context changed.
+  bool on_fault(const FaultEvent& e);
+  /// The arbiter published a configuration that differs from the last one (new control content).
+  void on_reconfiguration() { ++context_.transitions; }
+  const InputContext& context() const { return context_; }
+
+ private:
+  void rebuild();
+  std::string own_;
+  std::map<std::string, bool> raised_;  // source/component/fault -> raised
+  InputContext context_;
+};
+
+/// The suspect-input hold every core applies the same way: judgement is held while an input it relies on is
+/// suspect and for `hold_time` seconds of sample time after the context last changed (the transient a
+/// reconfiguration or a switch to corrected values causes is not a new fault).
+class SuspectHold {
+ public:
+  explicit SuspectHold(double hold_time = 10.0) : hold_time_(hold_time) {}
+  void set_hold_time(double s) { hold_time_ = s; }
+  /// The context in force from sample time `t` on.
+  void set(const InputContext& c, double t) {
+    if (!(c == context_)) last_change_ = t;
+    context_ = c;
+  }
+  const InputContext& context() const { return context_; }
+  /// True within hold_time of the last change of the context.
+  bool in_transient(double t) const { return t - last_change_ < hold_time_; }
+
+ private:
+  double hold_time_;
+  double last_change_ = -std::numeric_limits<double>::infinity();
+  InputContext context_;
+};
+
+}  // namespace windfdi
