@@ -168,10 +168,10 @@ int print_history(const std::string& db, const std::string& turbine, double sinc
 
 namespace windfdi::farm {
 
-int print_report(const std::string& db, const std::string& scenario, double since) {
-  FarmStore store(db);
-  const auto history = store.history("", since);
-  std::cout << render_report(match(read_injected(scenario), history), history);
+int print_report(const std::string& db, const std::string& scenario, double since, const std::string& history_file) {
+  const auto history = history_file.empty() ? FarmStore(db).history("", since) : read_history_jsonl(history_file);
+  const auto rows = match(read_injected(scenario), history);
+  std::cout << render_report(rows, history) << "\n" << render_benchmark_table(rows, history);
   return kExitOk;
 }
 

@@ -48,7 +48,8 @@ int publish_ack(const CommonOptions& common, const std::string& turbine, const s
                 const std::string& fault, const std::string& operator_name, double timeout_s);
 
 /// Prints injected faults against detections (ends the demo).
-int print_report(const std::string& db, const std::string& scenario, double since);
+/// `history_file` (JSON Lines of `history --json`) instead of the database when given.
+int print_report(const std::string& db, const std::string& scenario, double since, const std::string& history_file);
 
 /// Prints the stored history (a table, or JSON Lines with `json`).
 int print_history(const std::string& db, const std::string& turbine, double since, bool json);

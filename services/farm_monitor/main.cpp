@@ -38,9 +38,12 @@ int main(int argc, char** argv) {
   std::string scenario;
   report->add_option("--scenario", scenario, "the plant scenario that was run")->required();
   report->add_option("--since", since, "only events received at or after this Unix time (s)");
+  std::string history_file;
+  report->add_option("--history", history_file,
+                     "report on a history file (windfdi-farm history --json, or system_replay) instead of --db");
 
   return run_main(app, argc, argv, common, [&] {
-    if (*report) return farm::print_report(options.db, scenario, since);
+    if (*report) return farm::print_report(options.db, scenario, since, history_file);
     if (*history) return farm::print_history(options.db, turbine, since, json);
     if (*ack) return farm::publish_ack(common, ack_turbine, component, fault, operator_name, timeout);
     farm::FarmNode(common, options).run();

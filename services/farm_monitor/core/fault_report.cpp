@@ -1,12 +1,38 @@
 // Injected faults against what reached the farm monitor.
 #include "fault_report.hpp"
 
+#include <algorithm>
 #include <cstdio>
+#include <fstream>
+#include <map>
 #include <sstream>
 
+#include "isolation.hpp"
 #include "yaml_config.hpp"
 
 namespace windfdi::farm {
+
+namespace {
+
+// s after an injected fault ends during which reports on its component are still its own (a service's clear
+// hysteresis, a re-classification at the end).
+constexpr double kAfterEnd = 60.0;
+// s a stop may follow the end of the fault that warranted it (confirmation, the configuration's way back).
+constexpr double kStopAfterEnd = 300.0;
+// Ice that warrants a stop: ice_detect's critical level (deploy/config/ice_detect.yaml critical_mass).
+constexpr double kStopIceMass = 4500.0;
+
+double detected_at(const nlohmann::json& d) {
+  return d["t_detected"].is_number() ? d["t_detected"].get<double>() : d["t"].get<double>();
+}
+
+std::vector<InjectedFault> injected_of(const std::vector<ReportRow>& rows) {
+  std::vector<InjectedFault> out;
+  for (const auto& r : rows) out.push_back(r.injected);
+  return out;
+}
+
+}  // namespace
 
 std::pair<std::string, std::string> expected_detection(const std::string& target, const std::string& type) {
   auto ends = [&](const char* p) { return target.rfind(p, 0) == 0 ? target.substr(std::string(p).size()) : ""; };
@@ -37,6 +63,11 @@ std::vector<InjectedFault> read_injected(const std::string& file) {
     i.target = f.require<std::string>("target");
     i.type = f.require<std::string>("type");
     i.start = f.require_number("start", 0.0, 1e9);
+    i.value = f.get_number("value", 0.0, -1e9, 1e9);
+    // The plant's own reading of end, hold and the ramps (plant_sim/model/scenario.cpp).
+    i.end = f.get_number("end", 1e300, i.start, 1e300);
+    if (f.has("hold")) i.end = i.start + f.get_number("ramp_in", 0.0, 0.0, 1e5) + f.require_number("hold", 0.0, 1e5);
+    if (i.end < 1e299) i.end += f.get_number("ramp_out", 0.0, 0.0, 1e5);
     std::tie(i.component, i.fault) = expected_detection(i.target, i.type);
     out.push_back(i);
   }
@@ -53,8 +84,8 @@ std::vector<ReportRow> match(const std::vector<InjectedFault>& injected, const s
       if (h.kind != "fault" || h.turbine_id != inj.turbine) continue;
       const auto& d = h.data;
       if (d["component"] != inj.component || d["state"] != "raised") continue;
-      const double td = d["t_detected"].is_number() ? d["t_detected"].get<double>() : d["t"].get<double>();
-      if (td < inj.start) continue;
+      const double td = detected_at(d);
+      if (td < inj.start || td > inj.end + kAfterEnd) continue;
       const std::string fault = d["fault"].get<std::string>();
       if (r.detected) {
         const std::string& last = r.reclassified.empty() ? r.detected_fault : r.reclassified.back();
@@ -64,6 +95,7 @@ std::vector<ReportRow> match(const std::vector<InjectedFault>& injected, const s
       r.detected = true;
       r.detected_fault = fault;
       r.delay = td - inj.start;
+      r.detected_while_active = td <= inj.end;
       received = h.received_at;
     }
     if (r.detected)
@@ -77,6 +109,80 @@ std::vector<ReportRow> match(const std::vector<InjectedFault>& injected, const s
     rows.push_back(r);
   }
   return rows;
+}
+
+std::vector<ExtraReport> extra_reports(const std::vector<InjectedFault>& injected,
+                                       const std::vector<HistoryRow>& history) {
+  // Every raised report with the time it stopped acting (its clear), per turbine.
+  struct Raised {
+    const nlohmann::json* data;
+    double from, to;
+  };
+  std::map<std::string, std::vector<Raised>> by_turbine;
+  std::map<std::string, std::size_t> open;  // turbine/source/component/fault -> index
+  for (const auto& h : history) {
+    if (h.kind != "fault") continue;
+    const auto& d = h.data;
+    const std::string key = h.turbine_id + "/" + d["source"].get<std::string>() + "/" +
+                            d["component"].get<std::string>() + "/" + d["fault"].get<std::string>();
+    auto& list = by_turbine[h.turbine_id];
+    if (d["state"] == "raised") {
+      if (open.count(key)) continue;  // a repeat (higher severity, transient-local replay)
+      open[key] = list.size();
+      list.push_back({&d, detected_at(d), 1e300});
+    } else if (open.count(key)) {
+      list[open[key]].to = d["t"].get<double>();
+      open.erase(key);
+    }
+  }
+  const isolation::IsolationConfig iso;
+  std::vector<ExtraReport> out;
+  for (const auto& [turbine, list] : by_turbine) {
+    for (std::size_t r = 0; r < list.size(); ++r) {
+      const auto& d = *list[r].data;
+      const std::string component = d["component"].get<std::string>();
+      const double td = list[r].from;
+      bool injected_here = false;
+      for (const auto& i : injected)
+        injected_here |= i.turbine == turbine && i.component == component && td >= i.start && td <= i.end + kAfterEnd;
+      if (injected_here) continue;
+      // Isolation against the reports acting around its detection (as the arbiter saw them).
+      std::vector<isolation::Report> reports = {
+          {d["source"].get<std::string>(), component, d["fault"].get<std::string>(), td}};
+      for (std::size_t s = 0; s < list.size(); ++s) {
+        if (s == r || list[s].from > td + iso.lead || list[s].to < td - iso.common_window) continue;
+        const auto& o = *list[s].data;
+        reports.push_back({o["source"].get<std::string>(), o["component"].get<std::string>(),
+                           o["fault"].get<std::string>(), list[s].from});
+      }
+      const auto v = isolation::isolate(reports, iso);
+      out.push_back({turbine, component, d["fault"].get<std::string>(), d["source"].get<std::string>(), td,
+                     v[0].secondary, v[0].explained_by});
+    }
+  }
+  std::sort(out.begin(), out.end(), [](const ExtraReport& a, const ExtraReport& b) { return a.t_detected < b.t_detected; });
+  return out;
+}
+
+std::vector<StopRecord> stops(const std::vector<InjectedFault>& injected, const std::vector<HistoryRow>& history) {
+  std::vector<StopRecord> out;
+  std::map<std::string, bool> stopped;
+  for (const auto& h : history) {
+    if (h.kind != "config") continue;
+    const bool stop = h.data["mode"] == "safe_stop";
+    bool& was = stopped[h.turbine_id];
+    if (stop && !was) {
+      StopRecord s{h.turbine_id, h.data.value("t", 0.0), false};
+      for (const auto& i : injected) {
+        const bool stop_class =
+            i.type == "hydraulic_leakage" || (i.type == "ice_accretion" && i.value >= kStopIceMass);
+        s.warranted |= stop_class && i.turbine == h.turbine_id && s.t >= i.start && s.t <= i.end + kStopAfterEnd;
+      }
+      out.push_back(s);
+    }
+    was = stop;
+  }
+  return out;
 }
 
 std::string render_report(const std::vector<ReportRow>& rows, const std::vector<HistoryRow>& history) {
@@ -107,22 +213,87 @@ std::string render_report(const std::vector<ReportRow>& rows, const std::vector<
                   r.reaction.empty() ? "-" : r.reaction.c_str());
     out << line;
   }
-  int unexpected = 0;
-  for (const auto& h : history) {
-    if (h.kind != "fault" || h.data["state"] != "raised") continue;
-    bool explained = false;
-    for (const auto& r : rows)
-      explained |= r.injected.turbine == h.turbine_id && r.injected.component == h.data["component"];
-    if (!explained) {
-      ++unexpected;
-      out << "unexpected: " << h.turbine_id << " " << h.data["component"].get<std::string>() << " "
-          << h.data["fault"].get<std::string>() << " from " << h.data["source"].get<std::string>() << "\n";
-    }
+  const auto injected = injected_of(rows);
+  int unexpected = 0, secondary = 0;
+  for (const auto& x : extra_reports(injected, history)) {
+    std::snprintf(line, sizeof line, "%s: %s %s %s from %s at %.1f s", x.secondary ? "secondary" : "unexpected",
+                  x.turbine.c_str(), x.component.c_str(), x.fault.c_str(), x.source.c_str(), x.t_detected);
+    out << line << (x.secondary ? ", explained by " + x.explained_by + " (not acted on)" : "") << "\n";
+    (x.secondary ? secondary : unexpected) += 1;
+  }
+  int unwarranted = 0;
+  const auto stop_list = stops(injected, history);
+  for (const auto& s : stop_list) {
+    std::snprintf(line, sizeof line, "safe stop: %s at %.1f s, %s\n", s.turbine.c_str(), s.t,
+                  s.warranted ? "warranted by an injected fault" : "NOT WARRANTED by any injected fault");
+    out << line;
+    unwarranted += !s.warranted;
   }
   out << found << " of " << expected << " covered faults detected with the right class first";
   if (found_later > 0) out << ", " << found_later << " more after a re-classification";
-  out << "; " << unexpected << " unexpected fault report(s)\n";
+  out << "; " << unexpected << " unexpected fault report(s)";
+  if (secondary > 0) out << ", " << secondary << " secondary (explained, not acted on)";
+  out << "; " << stop_list.size() << " safe stop(s), " << unwarranted << " not warranted\n";
   return out.str();
+}
+
+std::string render_benchmark_table(const std::vector<ReportRow>& rows, const std::vector<HistoryRow>& history) {
+  std::ostringstream out;
+  char line[512];
+  out << "benchmark table (Odgaard, Stoustrup, Kinnaert: each fault detected and isolated while active)\n";
+  std::snprintf(line, sizeof line, "%-6s %-36s %14s  %-9s %-9s %9s %9s\n", "TURB", "FAULT", "ACTIVE (s)", "DETECTED",
+                "ISOLATED", "DELAY s", "SAMPLES");
+  out << line;
+  int covered = 0, ok = 0;
+  for (const auto& r : rows) {
+    const auto& i = r.injected;
+    char active[48];
+    if (i.end < 1e299) std::snprintf(active, sizeof active, "%.0f-%.0f", i.start, i.end);
+    else std::snprintf(active, sizeof active, "%.0f-", i.start);
+    if (i.component.empty()) {
+      std::snprintf(line, sizeof line, "%-6s %-36s %14s  %-9s\n", i.turbine.c_str(), (i.target + ":" + i.type).c_str(),
+                    active, "(not covered)");
+      out << line;
+      continue;
+    }
+    ++covered;
+    const bool detected = r.detected && r.detected_while_active;
+    const bool isolated = detected && r.detected_fault == i.fault;
+    ok += isolated;
+    char delay[32] = "-", samples[32] = "-";
+    if (detected) {
+      std::snprintf(delay, sizeof delay, "%.2f", r.delay);
+      std::snprintf(samples, sizeof samples, "%.0f", r.delay / 0.01);  // the benchmark's 100 Hz samples
+    }
+    std::snprintf(line, sizeof line, "%-6s %-36s %14s  %-9s %-9s %9s %9s\n", i.turbine.c_str(),
+                  (i.target + ":" + i.type).c_str(), active, detected ? "yes" : "no", isolated ? "yes" : "no", delay,
+                  samples);
+    out << line;
+  }
+  int false_alarms = 0;
+  for (const auto& x : extra_reports(injected_of(rows), history)) false_alarms += !x.secondary;
+  out << ok << " of " << covered << " covered faults detected and isolated while active; " << false_alarms
+      << " false alarm(s)\n";
+  return out.str();
+}
+
+std::vector<HistoryRow> read_history_jsonl(const std::string& file) {
+  std::ifstream in(file);
+  if (!in) throw ConfigError(file, 0, "", "cannot open the history file");
+  std::vector<HistoryRow> rows;
+  std::string text;
+  for (int n = 1; std::getline(in, text); ++n) {
+    if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
+    try {
+      const auto j = nlohmann::json::parse(text);
+      const auto& d = j.at("data");
+      rows.push_back({j.at("received_at").get<double>(), j.at("kind").get<std::string>(),
+                      d.value("turbine_id", std::string()), d});
+    } catch (const std::exception& e) {
+      throw ConfigError(file, n, "", std::string("not a history line: ") + e.what());
+    }
+  }
+  return rows;
 }
 
 }  // namespace windfdi::farm

@@ -12,6 +12,8 @@ struct InjectedFault {
   std::string turbine, target, type;
   double start = 0.0;
   std::string component, fault;  ///< what a diagnostic service should report ("" when none covers it)
+  double end = 1e300;            ///< s, when it stops acting (end, or start + ramp_in + hold, plus ramp_out)
+  double value = 0.0;            ///< the scenario's value (an ice mass decides whether it warrants a stop)
 };
 
 struct ReportRow {
@@ -21,6 +23,22 @@ struct ReportRow {
   std::vector<std::string> reclassified;  ///< classes raised on it later, in order (a service changing its mind)
   double delay = 0.0;          ///< s of measurement time from the start to t_detected
   std::string reaction;        ///< the arbiter's first configuration change after detection
+  bool detected_while_active = false;  ///< the first detection came before the fault ended (the benchmark's test)
+};
+
+/// A raised report that no injected fault explains, or one the isolation core explains by another report.
+struct ExtraReport {
+  std::string turbine, component, fault, source;
+  double t_detected = 0.0;
+  bool secondary = false;
+  std::string explained_by;  ///< "component class" of the root, or the common cause
+};
+
+/// A safe stop the arbiter commanded, and whether an injected fault of a stopping class warranted it.
+struct StopRecord {
+  std::string turbine;
+  double t = 0.0;  ///< s, turbine time of the configuration
+  bool warranted = false;
 };
 
 /// The component and class a service should report for a plant fault (target, type); empty when none.
@@ -29,6 +47,19 @@ std::pair<std::string, std::string> expected_detection(const std::string& target
 std::vector<InjectedFault> read_injected(const std::string& scenario_file);
 /// Matches each injected fault with the first raised report on its component at or after its start.
 std::vector<ReportRow> match(const std::vector<InjectedFault>& injected, const std::vector<HistoryRow>& history);
+/// Raised reports outside every injected fault's window, each isolated against the turbine's other reports.
+std::vector<ExtraReport> extra_reports(const std::vector<InjectedFault>& injected,
+                                       const std::vector<HistoryRow>& history);
+/// Each change to safe stop, judged against the injected faults that warrant one (a hydraulic leak, an ice
+/// accretion beyond 4500 kg) active, or ended within 300 s, at that time.
+std::vector<StopRecord> stops(const std::vector<InjectedFault>& injected, const std::vector<HistoryRow>& history);
+/// The table of injected faults against detections, then the reports no injected fault explains (secondary
+/// ones apart, with their root), the safe stops, and a summary.
 std::string render_report(const std::vector<ReportRow>& rows, const std::vector<HistoryRow>& history);
+/// The FDI/FTC benchmark's own table: per fault, detected and isolated while active, delay in s and in
+/// samples (100 Hz), and the false alarms (unexpected root reports) of the run.
+std::string render_benchmark_table(const std::vector<ReportRow>& rows, const std::vector<HistoryRow>& history);
+/// History rows from `windfdi-farm history --json` lines (what system_replay writes too).
+std::vector<HistoryRow> read_history_jsonl(const std::string& file);
 
 }  // namespace windfdi::farm
