@@ -90,7 +90,7 @@ declare -A PUB SUB
 PUB[plant]="wt/frame wt/lidar wt/health"
 SUB[plant]="wt/control/config wt/estimate/sensor_bias"
 for svc in blade_load sensor_bias pitch_diag ice_detect; do
-  SUB[$svc]="wt/frame wt/lidar wt/control/config"
+  SUB[$svc]="wt/frame wt/lidar wt/control/config wt/fault"
 done
 PUB[blade_load]="wt/estimate/blade_load wt/fault wt/health"
 PUB[sensor_bias]="wt/estimate/sensor_bias wt/fault wt/health"
