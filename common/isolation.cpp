@@ -22,6 +22,8 @@ const std::vector<Signature>& signature_table() {
        "the pitch controller runs on the generator speed"},
       {"generator_speed_sensor", "*", "sensor_bias", "pitch_sensor_*", "the same pitch transient"},
       {"generator_speed_sensor", "*", "ice_detect", "rotor", "the inertia is estimated from the speed"},
+      {"generator_speed_sensor", "*", "sensor_bias", "rotor_speed_sensor",
+       "the drive-train observer places part of a generator-speed error on the rotor-speed bias"},
       {"pitch_sensor_i", "*", "pitch_diag", "pitch_actuator_i",
        "the measured pitch is the identified actuator output"},
       {"pitch_sensor_i", "*", "blade_load", "blade_moment_sensor_i", "the blade's load model takes its pitch"},

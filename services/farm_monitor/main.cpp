@@ -41,9 +41,11 @@ int main(int argc, char** argv) {
   std::string history_file;
   report->add_option("--history", history_file,
                      "report on a history file (windfdi-farm history --json, or system_replay) instead of --db");
+  bool report_json = false;
+  report->add_flag("--json", report_json, "one JSON object (faults, extra reports, safe stops) instead of tables");
 
   return run_main(app, argc, argv, common, [&] {
-    if (*report) return farm::print_report(options.db, scenario, since, history_file);
+    if (*report) return farm::print_report(options.db, scenario, since, history_file, report_json);
     if (*history) return farm::print_history(options.db, turbine, since, json);
     if (*ack) return farm::publish_ack(common, ack_turbine, component, fault, operator_name, timeout);
     farm::FarmNode(common, options).run();

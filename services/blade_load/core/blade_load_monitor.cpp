@@ -72,6 +72,8 @@ FaultEvent BladeLoadMonitor::event(double t, const std::string& component, const
 bool BladeLoadMonitor::update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events) {
   const double t = s.t;
   if (gap) reset_windows();
+  // The LIDAR history is kept through a standstill: resuming with a stale one read as a lost LIDAR.
+  if ((s.valid_mask & kValidLidar)) lidar_.add_lidar(t, s.lidar_v_upper, s.lidar_v_lower);
   const bool speed_ok = std::isfinite(s.rotor_speed) && (s.valid_mask & kValidRotorSpeed) && s.rotor_speed <= 5.0;
   if (!speed_ok || !std::isfinite(s.azimuth) || !(s.valid_mask & kValidAzimuth) ||
       s.rotor_speed < cfg_.min_rotor_speed) {
@@ -111,8 +113,7 @@ bool BladeLoadMonitor::update(const FrameSample& s, bool gap, std::vector<FaultE
     }
   }
 
-  // LIDAR: the model needs the value measured D / V ago.
-  if ((s.valid_mask & kValidLidar)) lidar_.add_lidar(t, s.lidar_v_upper, s.lidar_v_lower);
+  // LIDAR: the model needs the value measured D / V ago (added above).
   std::array<double, 3> pitch = s.pitch;
   {
     double sum = 0.0;

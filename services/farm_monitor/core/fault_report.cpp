@@ -19,8 +19,9 @@ namespace {
 constexpr double kAfterEnd = 60.0;
 // s a stop may follow the end of the fault that warranted it (confirmation, the configuration's way back).
 constexpr double kStopAfterEnd = 300.0;
-// Ice that warrants a stop: ice_detect's critical level (deploy/config/ice_detect.yaml critical_mass).
-constexpr double kStopIceMass = 4500.0;
+// Ice that warrants a stop: ice_detect's critical level (deploy/config/ice_detect.yaml critical_mass), less the
+// estimator's error (rms 1 % of the inertia, about 400 kg).
+constexpr double kStopIceMass = 4500.0, kStopIceShare = 0.9;
 
 double detected_at(const nlohmann::json& d) {
   return d["t_detected"].is_number() ? d["t_detected"].get<double>() : d["t"].get<double>();
@@ -64,9 +65,11 @@ std::vector<InjectedFault> read_injected(const std::string& file) {
     i.type = f.require<std::string>("type");
     i.start = f.require_number("start", 0.0, 1e9);
     i.value = f.get_number("value", 0.0, -1e9, 1e9);
+    i.ramp_in = f.get_number("ramp_in", 0.0, 0.0, 1e5);
+    i.fraction = f.get_number("fraction", 1.0, 0.0, 1.0);
     // The plant's own reading of end, hold and the ramps (plant_sim/model/scenario.cpp).
     i.end = f.get_number("end", 1e300, i.start, 1e300);
-    if (f.has("hold")) i.end = i.start + f.get_number("ramp_in", 0.0, 0.0, 1e5) + f.require_number("hold", 0.0, 1e5);
+    if (f.has("hold")) i.end = i.start + i.ramp_in + f.require_number("hold", 0.0, 1e5);
     if (i.end < 1e299) i.end += f.get_number("ramp_out", 0.0, 0.0, 1e5);
     std::tie(i.component, i.fault) = expected_detection(i.target, i.type);
     out.push_back(i);
@@ -164,6 +167,28 @@ std::vector<ExtraReport> extra_reports(const std::vector<InjectedFault>& injecte
   return out;
 }
 
+double injected_ice(const std::vector<InjectedFault>& injected, const std::string& turbine, double t) {
+  // The plant's accounting (plant_sim/model/turbine_sim.cpp): sheddings in time order, each of what is there.
+  std::vector<const InjectedFault*> events;
+  for (const auto& i : injected)
+    if (i.turbine == turbine && (i.type == "ice_accretion" || i.type == "ice_shedding") && i.start <= t)
+      events.push_back(&i);
+  std::stable_sort(events.begin(), events.end(), [](const InjectedFault* a, const InjectedFault* b) {
+    return a->start < b->start;
+  });
+  double shed = 0.0;
+  auto grown = [&](double at) {
+    double ice = -shed;
+    for (const auto* e : events)
+      if (e->type == "ice_accretion" && e->start <= at)
+        ice += e->value * (e->ramp_in > 0 ? std::min(1.0, (at - e->start) / e->ramp_in) : 1.0);
+    return ice;
+  };
+  for (const auto* e : events)
+    if (e->type == "ice_shedding") shed += e->fraction * std::max(0.0, grown(e->start));
+  return std::max(0.0, grown(t));
+}
+
 std::vector<StopRecord> stops(const std::vector<InjectedFault>& injected, const std::vector<HistoryRow>& history) {
   std::vector<StopRecord> out;
   std::map<std::string, bool> stopped;
@@ -173,11 +198,10 @@ std::vector<StopRecord> stops(const std::vector<InjectedFault>& injected, const 
     bool& was = stopped[h.turbine_id];
     if (stop && !was) {
       StopRecord s{h.turbine_id, h.data.value("t", 0.0), false};
-      for (const auto& i : injected) {
-        const bool stop_class =
-            i.type == "hydraulic_leakage" || (i.type == "ice_accretion" && i.value >= kStopIceMass);
-        s.warranted |= stop_class && i.turbine == h.turbine_id && s.t >= i.start && s.t <= i.end + kStopAfterEnd;
-      }
+      for (const auto& i : injected)
+        s.warranted |= i.type == "hydraulic_leakage" && i.turbine == h.turbine_id && s.t >= i.start &&
+                       s.t <= i.end + kStopAfterEnd;
+      s.warranted |= injected_ice(injected, h.turbine_id, s.t) >= kStopIceShare * kStopIceMass;
       out.push_back(s);
     }
     was = stop;
@@ -275,6 +299,38 @@ std::string render_benchmark_table(const std::vector<ReportRow>& rows, const std
   out << ok << " of " << covered << " covered faults detected and isolated while active; " << false_alarms
       << " false alarm(s)\n";
   return out.str();
+}
+
+nlohmann::json report_json(const std::vector<ReportRow>& rows, const std::vector<HistoryRow>& history) {
+  nlohmann::json out{{"faults", nlohmann::json::array()}, {"extra", nlohmann::json::array()},
+                     {"stops", nlohmann::json::array()}};
+  for (const auto& r : rows) {
+    const auto& i = r.injected;
+    out["faults"].push_back({{"turbine", i.turbine},
+                             {"target", i.target},
+                             {"type", i.type},
+                             {"start", i.start},
+                             {"end", i.end < 1e299 ? nlohmann::json(i.end) : nlohmann::json(nullptr)},
+                             {"component", i.component},
+                             {"expected", i.fault},
+                             {"detected", r.detected},
+                             {"first", r.detected_fault},
+                             {"then", r.reclassified},
+                             {"delay", r.detected ? nlohmann::json(r.delay) : nlohmann::json(nullptr)},
+                             {"while_active", r.detected_while_active}});
+  }
+  const auto injected = injected_of(rows);
+  for (const auto& x : extra_reports(injected, history))
+    out["extra"].push_back({{"turbine", x.turbine},
+                            {"component", x.component},
+                            {"fault", x.fault},
+                            {"source", x.source},
+                            {"t_detected", x.t_detected},
+                            {"secondary", x.secondary},
+                            {"explained_by", x.explained_by}});
+  for (const auto& s : stops(injected, history))
+    out["stops"].push_back({{"turbine", s.turbine}, {"t", s.t}, {"warranted", s.warranted}});
+  return out;
 }
 
 std::vector<HistoryRow> read_history_jsonl(const std::string& file) {

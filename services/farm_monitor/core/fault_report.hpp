@@ -14,7 +14,13 @@ struct InjectedFault {
   std::string component, fault;  ///< what a diagnostic service should report ("" when none covers it)
   double end = 1e300;            ///< s, when it stops acting (end, or start + ramp_in + hold, plus ramp_out)
   double value = 0.0;            ///< the scenario's value (an ice mass decides whether it warrants a stop)
+  double ramp_in = 0.0;          ///< s (ice accretion: the mass grows over it)
+  double fraction = 1.0;         ///< ice shedding: the share of the ice that falls off
 };
+
+/// The ice on a turbine's rotor at time t (kg) as the plant accounts it: accretions add their mass over
+/// their ramp, a shedding drops its fraction of what is there.
+double injected_ice(const std::vector<InjectedFault>& injected, const std::string& turbine, double t);
 
 struct ReportRow {
   InjectedFault injected;
@@ -50,8 +56,8 @@ std::vector<ReportRow> match(const std::vector<InjectedFault>& injected, const s
 /// Raised reports outside every injected fault's window, each isolated against the turbine's other reports.
 std::vector<ExtraReport> extra_reports(const std::vector<InjectedFault>& injected,
                                        const std::vector<HistoryRow>& history);
-/// Each change to safe stop, judged against the injected faults that warrant one (a hydraulic leak, an ice
-/// accretion beyond 4500 kg) active, or ended within 300 s, at that time.
+/// Each change to safe stop, judged against the injected faults that warrant one: a hydraulic leak active, or
+/// ended within 300 s, at that time; ice on the rotor within 10 % of ice_detect's critical 4500 kg.
 std::vector<StopRecord> stops(const std::vector<InjectedFault>& injected, const std::vector<HistoryRow>& history);
 /// The table of injected faults against detections, then the reports no injected fault explains (secondary
 /// ones apart, with their root), the safe stops, and a summary.
@@ -59,6 +65,8 @@ std::string render_report(const std::vector<ReportRow>& rows, const std::vector<
 /// The FDI/FTC benchmark's own table: per fault, detected and isolated while active, delay in s and in
 /// samples (100 Hz), and the false alarms (unexpected root reports) of the run.
 std::string render_benchmark_table(const std::vector<ReportRow>& rows, const std::vector<HistoryRow>& history);
+/// The same as JSON (rows, extra reports, stops), for the multi-fault suite's aggregation.
+nlohmann::json report_json(const std::vector<ReportRow>& rows, const std::vector<HistoryRow>& history);
 /// History rows from `windfdi-farm history --json` lines (what system_replay writes too).
 std::vector<HistoryRow> read_history_jsonl(const std::string& file);
 
