@@ -172,6 +172,105 @@ INSTANTIATE_TEST_SUITE_P(
                    "ice_shedding", 700, 300, 30, [](const json& c) { return c["reasons"].get<int>() > 0; }}),
     [](const auto& i) { return std::string(i.param.name); });
 
+// One fault through the whole system (every service, the arbiter closing the loop on the plant): one right
+// report, nothing on the components its residuals touch, and no stop (ARCHITECTURE "Isolation").
+struct Chain {
+  const char* name;
+  const char* scenario;
+  const char* component;  ///< the one report expected
+  const char* fault;
+  std::vector<std::string> quiet_prefixes;  ///< components on which nothing may be raised
+};
+void PrintTo(const Chain& c, std::ostream* os) { *os << c.name; }
+
+class IsolationChain : public ::testing::TestWithParam<Chain> {};
+
+TEST_P(IsolationChain, OneFaultGivesOneReportAndNoStop) {
+  const Chain& c = GetParam();
+  Farm farm(33);
+  for (const char* exe :
+       {"windfdi-blade-load", "windfdi-sensor-bias", "windfdi-pitch-diag", "windfdi-ice-detect"})
+    farm.service(exe);
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  // GIVEN the chain's scenario (fault at 300 s, after blade_load has learned) at 20x real time, closed loop
+  auto& plant = farm.start({bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/" + c.scenario, "--rate",
+                            "20", "--progress", "0"},
+                           "plant");
+  ASSERT_EQ(plant.wait(std::chrono::seconds(120)), 0) << plant.stderr_text();
+  std::this_thread::sleep_for(std::chrono::seconds(3));
+  const auto history = farm.history();
+  // THEN the fault's own report was raised
+  bool found = false;
+  for (const auto& r : history)
+    found |= r["kind"] == "fault" && r["data"]["state"] == "raised" && r["data"]["component"] == c.component &&
+             r["data"]["fault"] == c.fault;
+  EXPECT_TRUE(found) << c.component << " " << c.fault << " not raised\n" << farm.logs();
+  // AND nothing on the components its residuals touch
+  for (const auto& r : history) {
+    if (r["kind"] != "fault" || r["data"]["state"] != "raised") continue;
+    const std::string component = r["data"]["component"].get<std::string>();
+    for (const auto& p : c.quiet_prefixes)
+      if (component.rfind(p, 0) == 0) ADD_FAILURE() << "raised on " << component << ": " << r["data"].dump();
+  }
+  // AND the turbine was never stopped
+  for (const auto& cfg : farm.configurations()) EXPECT_NE(cfg["mode"], 2) << cfg.dump();
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Chains, IsolationChain,
+    ::testing::Values(
+        Chain{"rotor_speed_stuck_raises_no_blade_or_pitch_report", "chain_rotor_speed_stuck.yaml",
+              "rotor_speed_sensor", "sensor_bias", {"blade_moment_sensor_", "pitch_sensor_", "pitch_actuator_"}},
+        Chain{"stuck_pitch_sensor_is_no_actuator_fault", "chain_pitch_stuck.yaml", "pitch_sensor_1", "sensor_bias",
+              {"pitch_actuator_"}},
+        Chain{"high_air_content_at_18_never_stops", "chain_high_air_content_18.yaml", "pitch_actuator_2",
+              "high_air_content", {"pitch_sensor_", "blade_moment_sensor_"}},
+        Chain{"generator_speed_bias_raises_no_actuator_fault", "chain_generator_speed_bias.yaml",
+              "generator_speed_sensor", "sensor_bias", {"pitch_actuator_"}}),
+    [](const auto& i) { return std::string(i.param.name); });
+
+TEST(RestartedService, ARestartOnARunningTurbineRaisesNothingAndTheRealFaultIsFound) {
+  // GIVEN pitch_diag, the arbiter and the farm on hydraulic_leakage.yaml (blade 3 leaks from 150 s) at 5x
+  Farm farm(34);
+  auto diag = std::make_unique<ChildProcess>(
+      std::vector<std::string>{bin("windfdi-pitch-diag"), "--config", kDeploy + "/config/pitch_diag.yaml"},
+      farm.env, "pitch_diag");
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  auto& plant = farm.start({bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/hydraulic_leakage.yaml",
+                            "--rate", "5", "--progress", "0"},
+                           "plant");
+  // WHEN pitch_diag is killed at about 70 s and restarted 4 s later, on a running turbine
+  std::this_thread::sleep_for(std::chrono::milliseconds(14000));
+  diag->stop(SIGKILL);
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));
+  diag = std::make_unique<ChildProcess>(
+      std::vector<std::string>{bin("windfdi-pitch-diag"), "--config", kDeploy + "/config/pitch_diag.yaml"},
+      farm.env, "pitch_diag_restarted");
+  ASSERT_EQ(plant.wait(std::chrono::seconds(120)), 0) << plant.stderr_text();
+  std::this_thread::sleep_for(std::chrono::seconds(3));
+  // THEN nothing was raised on the healthy actuators, the leak on blade 3 was, and only after its onset
+  bool leak = false;
+  for (const auto& r : farm.history()) {
+    if (r["kind"] != "fault" || r["data"]["state"] != "raised") continue;
+    const auto& d = r["data"];
+    if (d["component"] == "pitch_actuator_3" && d["fault"] == "hydraulic_leakage") {
+      leak = true;
+      EXPECT_GE(d["t_detected"].get<double>(), 150.0) << d.dump();
+    } else {
+      ADD_FAILURE() << "raised: " << d.dump();
+    }
+  }
+  EXPECT_TRUE(leak) << diag->stderr_text();
+  // AND no stop came before the leak (the restart itself is harmless), one came after it
+  bool stopped = false;
+  for (const auto& c : farm.configurations()) {
+    if (c["mode"] != 2) continue;
+    stopped = true;
+    EXPECT_GE(c["t"].get<double>(), 150.0) << c.dump();
+  }
+  EXPECT_TRUE(stopped) << farm.configs->stdout_text();
+}
+
 TEST(HealthyFarm, EveryServiceOnTheHealthyScenarioRaisesNothing) {
   // GIVEN every diagnostic service and the arbiter on healthy.yaml (three turbines at 8, 14 and 20 m/s), the
   // first 15 minutes at 10x real time (whole hours per turbine are run by each service's own tests)

@@ -170,7 +170,7 @@ int configs(const CommonOptions& common, double timeout) {
     got.clear();
     reader.take(got);
     for (const auto& c : got)
-      std::cout << nlohmann::json{{"received_at", wall_time()}, {"turbine_id", c.turbine_id()},
+      std::cout << nlohmann::json{{"received_at", wall_time()}, {"t", c.t()}, {"turbine_id", c.turbine_id()},
                                   {"arbiter_id", c.arbiter_id()}, {"revision", c.revision()},
                                   {"mode", static_cast<int>(c.mode())}, {"ipc_source", static_cast<int>(c.ipc_source())},
                                   {"ice_mode", static_cast<int>(c.ice_mode())},

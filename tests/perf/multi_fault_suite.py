@@ -135,7 +135,7 @@ def generate(seed, index):
                 timeline.append(f)
                 timeline.append({"turbine": tid, "target": "rotor", "type": "ice_shedding",
                                  "fraction": round(rng.uniform(0.4, 1.0), 2), "start": shed_at})
-                t = shed_at + 60 + rng.uniform(120, 300)
+                t = shed_at + 60 + rng.uniform(200, 400)
                 continue
             if kind == "stop":
                 f["hold"] = round(length)
@@ -146,7 +146,9 @@ def generate(seed, index):
             nxt = seq[idx + 1] if idx + 1 < len(seq) else None
             overlap = (rng.random() < 0.2 and kind != "stop" and nxt is not None and nxt[0] != "stop"
                        and subsystem(nxt[1]["target"]) != subsystem(f["target"]))
-            t = t + (length * rng.uniform(0.3, 0.7) if overlap else length + rng.uniform(120, 300))
+            # Apart: beyond every service's clear hysteresis (blade_load: a fault back within 120 s is by design one
+            # intermittent fault; pitch_diag clears after 10 s of excited data, the arbiter holds 30 s).
+            t = t + (length * rng.uniform(0.3, 0.7) if overlap else length + rng.uniform(200, 400))
         faults += timeline
         duration = max(duration, int(t + 200))
     return {"duration": duration, "seed": seed * 1000 + index, "turbines": turbines, "faults": faults}
