@@ -103,9 +103,9 @@ def subsystem(target):
     return target
 
 
-def generate(seed, index):
+def generate(seed, index, turbine_range=(1, 4), fault_range=(3, 8)):
     rng = random.Random(seed * 1000 + index)
-    n_turbines = rng.randint(1, 4)
+    n_turbines = rng.randint(*turbine_range)
     turbines, faults = [], []
     duration = 0
     for k in range(n_turbines):
@@ -114,7 +114,7 @@ def generate(seed, index):
         turbines.append({"id": tid, "wind": {"mean": wind, "turbulence_intensity": round(rng.uniform(0.06, 0.16), 3),
                                              "shear_exponent": round(rng.uniform(0.1, 0.3), 3),
                                              "shear_variation": 0.03}})
-        n = rng.randint(3, 8)
+        n = rng.randint(*fault_range)
         # A fresh draw per fault: another blade, another magnitude (the same fault twice on one target would be
         # one long fault, not two).
         chosen = [rng.choice(fault_catalogue(rng, tid, wind, 0)) for _ in range(n)]
@@ -285,6 +285,8 @@ def main():
     g.add_argument("--seed", type=int, required=True)
     g.add_argument("--count", type=int, default=30)
     g.add_argument("--out", required=True)
+    g.add_argument("--turbines", default="1-4", help="range of turbines per scenario (1-4)")
+    g.add_argument("--faults", default="3-8", help="range of faults per turbine (3-8)")
     r = sub.add_parser("run")
     r.add_argument("scenarios", nargs="+", help="scenario files or folders of them")
     r.add_argument("--mode", choices=["fast", "dds"], default="fast")
@@ -299,7 +301,8 @@ def main():
         for k in range(a.count):
             path = os.path.join(a.out, f"scenario_{a.seed}_{k:02d}.yaml")
             with open(path, "w") as f:
-                f.write(dump_yaml(generate(a.seed, k)))
+                rng_of = lambda text: tuple(int(x) for x in text.split("-"))
+                f.write(dump_yaml(generate(a.seed, k, rng_of(a.turbines), rng_of(a.faults))))
             print(path)
         return 0
     files = []
@@ -326,7 +329,10 @@ def main():
         print(f"{os.path.basename(f)}: {right}/{sum(1 for x in r['faults'] if x['expected'])} right first, "
               f"{len(bad)} unexpected, {sum(not s['warranted'] for s in r['stops'])} unwarranted stops", flush=True)
     share, rate, bad_stops = print_tables(*judge(reports), len(files))
-    print(f"work: {work_root}")
+    if a.work:
+        print(f"work: {work_root}")
+    else:
+        shutil.rmtree(work_root, ignore_errors=True)
     if a.require and (share < a.require[0] or rate > a.require[1] or bad_stops > a.require[2]):
         print("multi_fault_suite: targets missed", file=sys.stderr)
         return 1

@@ -416,8 +416,10 @@ void BladeLoadMonitor::maybe_adapt(double t) {
   const double pitch = op_n_ > 0 ? pitch_sum_ / op_n_ : kNaN;
   op_n_ = 0;
   shear_sum_ = lambda_sum_ = pitch_sum_ = 0.0;
+  // Not on a window the gate holds: a suspect speed or pitch (a biased lambda) taught the table a wrong k_M, and
+  // false alarms on healthy gauges followed once the fault was gone.
   bool ok = cfg_.adapt && lidar_ok_ && std::isfinite(shear) && std::fabs(shear) < cfg_.uniform_shear &&
-            healthy_[0][kMeanChannel].learned && !any_raised();
+            healthy_[0][kMeanChannel].learned && !any_raised() && !gated();
   for (int b = 0; b < 3; ++b) ok = ok && sensor_valid_[b] && model_valid_[b] && !blades_[b].exceeding;
   if (!ok) {
     adapt_n_ = 0;

@@ -98,9 +98,12 @@ bool IceDetector::update(const FrameSample& s, double power, bool gap, std::vect
   if (speed_suspect) ++suspect_samples_;
   if (!speed_suspect && s.generator_speed >= cfg_.min_generator_speed && s.gen_torque >= cfg_.min_gen_torque &&
       pitch <= cfg_.max_pitch) {
+    if (!fed_) resumed_at_ = s.t;  // the regression starts afresh here
+    fed_ = true;
     estimator_.update(s.generator_speed, power, s.gen_torque);
     fast_.update(s.generator_speed, power, s.gen_torque);
   } else {
+    fed_ = false;
     estimator_.reset();
     fast_.reset();
   }
@@ -144,7 +147,11 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   // it gave a false alarm at 20 m/s, where the balance steps several times an hour, for 40 s less delay).
   const bool cp_step = estimator_.power_changes() > power_changes_seen_;
   power_changes_seen_ = estimator_.power_changes();
-  if (estimator_.excited() && estimator_.inertia() > 0.0 && !estimator_.power_unsettled()) {
+  // After the regression restarted (a stop, a suspect speed, a gap), its first window is young: +9 % inertia
+  // within 100 s of a speed-sensor hold raised ice. The median keeps the estimates from before until a whole
+  // window of fresh data is in, and ice is not judged before then.
+  const bool young = t - resumed_at_ < cfg_.estimator.window;
+  if (!young && estimator_.excited() && estimator_.inertia() > 0.0 && !estimator_.power_unsettled()) {
     recent_.push_back(estimator_.inertia());
     while (recent_.size() > static_cast<std::size_t>(cfg_.median_estimates)) recent_.pop_front();
   }
@@ -162,6 +169,7 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   if (estimator_.calibrated() && calibrated_at_ < 0.0) calibrated_at_ = t;
   const double settle = cfg_.estimator.window + cfg_.median_estimates;
   if (out_.inertia <= 0.0 || learning || calibrated_at_ < 0.0 || t - calibrated_at_ < settle) return;
+  if (young) return;
   level_events(t, events);
 
   // Shedding: the fast estimate falls shed_fraction of J0 below the slow one (which still remembers the

@@ -100,6 +100,8 @@ class IceDetector {
   uint64_t power_changes_seen_ = 0;
   double shed_last_ = -1.0;
   InputContext context_;
+  bool fed_ = false;           // the last sample was fed to the estimators
+  double resumed_at_ = -1e300;  // sample time the estimators were last fed again after a reset
   double speed_mismatch_lp_ = 0.0;
   uint64_t suspect_samples_ = 0;  // time the last shedding was raised
   uint64_t rejected_ = 0;
