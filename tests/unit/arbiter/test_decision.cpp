@@ -347,16 +347,22 @@ TEST(Proportionate, AFlippingClassIsUncertainAndDeratedUntilItSettles) {
 
 // --- Isolation through the arbiter: secondary reports are shown, not acted on ---
 
-TEST(Isolated, ALeakExplainedByASpeedSensorFaultNeverStops) {
+// A speed-sensor fault detected at 100 s and a leak "fault" detected at `leak_detected`, both reported.
+Arbiter speed_fault_and_leak(const char* speed_sensor, double leak_detected) {
   Arbiter a;
-  // GIVEN a generator-speed bias, and 1 s later a leak "fault" on a healthy actuator (the controller's
-  // switch to the corrected speed moved the pitch)
-  auto speed = fault("sensor_bias", "generator_speed_sensor", "sensor_bias", "fault", 3.0);
+  auto speed = fault("sensor_bias", speed_sensor, "sensor_bias", "fault", 0.03);
   speed.t_detected = 100.0;
   a.on_fault(speed, 100.0);
   auto leak = fault("pitch_diag", "pitch_actuator_2", "hydraulic_leakage", "fault");
-  leak.t_detected = 100.5;
-  a.on_fault(leak, 101.0);
+  leak.t_detected = leak_detected;
+  a.on_fault(leak, std::max(100.0, leak_detected + 1.0));
+  return a;
+}
+
+TEST(Isolated, ALeakExplainedByASpeedSensorFaultNeverStops) {
+  // GIVEN a generator-speed bias, and 0.5 s later a leak "fault" on a healthy actuator (the controller's
+  // switch to the corrected speed moved the pitch)
+  Arbiter a = speed_fault_and_leak("generator_speed_sensor", 100.5);
   // THEN the corrected speed is used, the leak is secondary: no derate, no stop
   for (double t : {101.0, 150.0, 500.0}) {
     const auto c = a.evaluate(t);
@@ -368,14 +374,8 @@ TEST(Isolated, ALeakExplainedByASpeedSensorFaultNeverStops) {
 }
 
 TEST(Isolated, AnActuatorFaultLongAfterASpeedFaultIsItsOwnRoot) {
-  Arbiter a;
-  auto speed = fault("sensor_bias", "rotor_speed_sensor", "sensor_bias", "fault", 0.03);
-  speed.t_detected = 100.0;
-  a.on_fault(speed, 100.0);
   // a leak detected 60 s before the speed fault is no echo of it
-  auto leak = fault("pitch_diag", "pitch_actuator_1", "hydraulic_leakage", "fault");
-  leak.t_detected = 40.0;
-  a.on_fault(leak, 41.0);
+  Arbiter a = speed_fault_and_leak("rotor_speed_sensor", 40.0);
   EXPECT_EQ(a.evaluate(120.0).mode, Mode::kSafeStop);
 }
 
