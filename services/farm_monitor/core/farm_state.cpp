@@ -1,6 +1,8 @@
 // The farm monitor's live picture.
 #include "farm_state.hpp"
 
+#include "isolation.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <sstream>
@@ -34,8 +36,20 @@ std::vector<std::string> FarmState::active_faults(const std::string& turbine_id)
   std::vector<std::string> out;
   const auto it = turbines_.find(turbine_id);
   if (it == turbines_.end()) return out;
+  // The same isolation as the arbiter's: a report another one explains is shown as secondary.
+  std::vector<const FaultEvent*> raised;
+  std::vector<isolation::Report> reports;
   for (const auto& [key, e] : it->second.faults)
-    if (e.raised) out.push_back(e.component + " " + e.fault + " (" + e.severity + ")");
+    if (e.raised) {
+      raised.push_back(&e);
+      reports.push_back({e.source, e.component, e.fault, e.t_detected});
+    }
+  const auto verdicts = isolation::isolate(reports);
+  for (std::size_t i = 0; i < raised.size(); ++i) {
+    const FaultEvent& e = *raised[i];
+    out.push_back(e.component + " " + e.fault + " (" + e.severity + ")" +
+                  (verdicts[i].secondary ? ", secondary: explained by " + verdicts[i].explained_by : ""));
+  }
   for (const auto& [service, state] : it->second.services)
     if (state == "lost") out.push_back(service + " service_lost");
   return out;

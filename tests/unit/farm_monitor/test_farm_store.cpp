@@ -1,6 +1,8 @@
 // Unit tests of the farm monitor's SQLite store and live table.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -107,6 +109,28 @@ TEST(FarmState, TableShowsModesFaultsAndLostServices) {
 }  // namespace
 
 namespace {
+
+TEST(FarmStateIsolation, TheLiveTableMarksAReportAnotherExplainsAsSecondary) {
+  using namespace windfdi::farm;
+  FarmState st;
+  // GIVEN a stuck rotor-speed sensor at 1500.2 s and a blade-moment report 1 s later on the same turbine
+  FaultEvent speed = fault("WT01", "rotor_speed_sensor", "sensor_bias", 1501.0);
+  speed.source = "sensor_bias";
+  speed.t_detected = 1500.2;
+  FaultEvent blade = fault("WT01", "blade_moment_sensor_2", "sensor_abrupt", 1502.0);
+  blade.source = "blade_load";
+  blade.t_detected = 1501.2;
+  st.on_fault(speed);
+  st.on_fault(blade);
+  // THEN the blade report is shown as the speed fault's echo, the speed fault as a root
+  const auto faults = st.active_faults("WT01");
+  ASSERT_EQ(faults.size(), 2u);
+  EXPECT_NE(std::find(faults.begin(), faults.end(),
+                      "blade_moment_sensor_2 sensor_abrupt (critical), secondary: explained by rotor_speed_sensor "
+                      "sensor_bias"),
+            faults.end());
+  EXPECT_NE(std::find(faults.begin(), faults.end(), "rotor_speed_sensor sensor_bias (critical)"), faults.end());
+}
 
 TEST(FaultReportTable, MatchesInjectedFaultsWithDetectionsAndReactions) {
   using namespace windfdi::farm;
