@@ -344,6 +344,51 @@ TEST(PitchDiagnoser, ConstantSensorOffsetRaisesNothing) {
   for (int i = 0; i < 3; ++i) EXPECT_EQ(rig.last.fault_class[i], "none");
 }
 
+TEST(PitchDiagnoser, AStuckPitchReadingHoldsTheBladeInsteadOfReadingASlowActuator) {
+  // GIVEN healthy actuators and blade 1's pitch reading stuck at 5 deg (the benchmark's fault 1) from 60 s
+  Rig rig(PitchDiagConfig{}, 0.2, 91);
+  rig.run(300.0, healthy, [&](FrameSample& s) {
+    if (s.t >= 60.0) s.pitch[0] = 5.0;
+  });
+  // THEN no actuator fault is raised, and the blade was held (counted) from about 60.2 s on
+  EXPECT_TRUE(rig.events.empty()) << rig.events[0].fault << " on " << rig.events[0].component;
+  EXPECT_GT(rig.diag.held(0), static_cast<uint64_t>(0.9 * 239.8 / 0.01));
+  EXPECT_EQ(rig.diag.held(1), 0u);
+}
+
+TEST(PitchDiagnoser, ABladeWhosePitchSensorIsReportedIsHeldUntilTheReportClears) {
+  // GIVEN a leak on blade 3 from 60 s, while sensor_bias reports pitch_sensor_3 from 55 s to 120 s
+  Rig rig(PitchDiagConfig{}, 0.2, 92);
+  const auto leak = [](double t, int b) { return b == 2 && t >= 60.0 ? table1("hydraulic_leakage") : table1("none"); };
+  rig.run(55.0, leak);
+  InputContext suspect;
+  suspect.pitch_sensor_suspect[2] = true;
+  rig.diag.set_context(suspect, rig.t);
+  rig.run(120.0, leak);
+  // THEN nothing is raised while the reading is suspect
+  EXPECT_TRUE(rig.events.empty()) << rig.events[0].fault << " at " << rig.events[0].t;
+  // WHEN the report clears THEN the leak is raised after the context hold (10 s) and hold_settle (10 s)
+  rig.diag.set_context(InputContext{}, rig.t);
+  rig.run(160.0, leak);
+  ASSERT_FALSE(rig.events.empty());
+  EXPECT_EQ(rig.events[0].fault, "hydraulic_leakage");
+  EXPECT_EQ(rig.events[0].component, "pitch_actuator_3");
+  EXPECT_GE(rig.events[0].t, 140.0);
+}
+
+TEST(PitchDiagnoser, NothingIsConfirmedWhileSettlingAfterAStartOnAFaultyActuator) {
+  // GIVEN pitch_diag started on a turbine whose blade 2 has already lost air (a restart on a running turbine)
+  Rig rig(PitchDiagConfig{}, 0.2, 93);
+  const auto air = [](double, int b) { return b == 1 ? table1("high_air_content") : table1("none"); };
+  rig.run(30.0, air);
+  // THEN nothing for startup_settle (30 s) ...
+  EXPECT_TRUE(rig.events.empty()) << rig.events[0].fault << " at " << rig.events[0].t;
+  // ... and the fault once it has settled
+  rig.run(45.0, air);
+  ASSERT_FALSE(rig.events.empty());
+  EXPECT_EQ(rig.events[0].fault, "high_air_content");
+}
+
 TEST(PitchDiagnoser, BadSamplesAreCountedAndDoNotChangeTheEstimate) {
   Rig rig(PitchDiagConfig{}, 0.2, 9);
   rig.run(30.0, healthy);
