@@ -314,25 +314,35 @@ def main():
         work = os.path.join(work_root, os.path.splitext(os.path.basename(f))[0])
         shutil.rmtree(work, ignore_errors=True)
         os.makedirs(work)
-        history = run_fast(f, work) if a.mode == "fast" else run_dds(f, work, a.rate)
-        return report(f, history)
+        try:
+            history = run_fast(f, work) if a.mode == "fast" else run_dds(f, work, a.rate)
+            return report(f, history)
+        except subprocess.CalledProcessError as e:
+            print(f"multi_fault_suite: {os.path.basename(f)}: {e}", file=sys.stderr)
+            return None
 
     # fast: one scenario per core; dds: one at a time (a scenario's processes share the two cores).
     jobs = a.jobs or (os.cpu_count() or 2 if a.mode == "fast" else 1)
     with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
         results = list(pool.map(one, files))
+    failed = [f for f, r in zip(files, results) if r is None]
     reports = []
     for f, r in zip(files, results):
+        if r is None:
+            continue
         reports.append((f, r, turbine_hours(f)))
         bad = [x for x in r["extra"] if not x["secondary"]]
         right = sum(1 for x in r["faults"] if x["expected"] and x["detected"] and x["first"] == x["expected"])
         print(f"{os.path.basename(f)}: {right}/{sum(1 for x in r['faults'] if x['expected'])} right first, "
               f"{len(bad)} unexpected, {sum(not s['warranted'] for s in r['stops'])} unwarranted stops", flush=True)
-    share, rate, bad_stops = print_tables(*judge(reports), len(files))
+    share, rate, bad_stops = print_tables(*judge(reports), len(reports))
     if a.work:
         print(f"work: {work_root}")
     else:
         shutil.rmtree(work_root, ignore_errors=True)
+    if failed:
+        print(f"multi_fault_suite: {len(failed)} scenario(s) did not run: {', '.join(failed)}", file=sys.stderr)
+        return 1
     if a.require and (share < a.require[0] or rate > a.require[1] or bad_stops > a.require[2]):
         print("multi_fault_suite: targets missed", file=sys.stderr)
         return 1

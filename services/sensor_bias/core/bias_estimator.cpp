@@ -19,7 +19,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
                         "paper_pitch_gains", "threshold_rotor_speed", "threshold_generator_speed", "threshold_pitch",
                         "raise_time", "clear_ratio", "clear_time", "filter_time", "settle_time", "witness_torque_min",
                         "max_tracking_error", "stuck_time",
-                        "differential_confirm", "pitch_mean_confirm", "pitch_mean_time", "rotor_speed_max",
+                        "differential_confirm", "pitch_offset_confirm", "pitch_offset_time", "rotor_speed_max",
                         "generator_speed_max", "torque_max", "wind_max", "pitch_min", "pitch_max"});
   BiasConfig c;
   c.mode = s.get_choice("mode", "observer", {"observer", "paper"}) == "paper" ? Mode::kPaper : Mode::kObserver;
@@ -45,8 +45,8 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   c.max_tracking_error = s.get_number("max_tracking_error", c.max_tracking_error, 0.0, 90.0);
   c.stuck_time = s.get_number("stuck_time", c.stuck_time, 0.0, 60.0);
   c.differential_confirm = s.get_number("differential_confirm", c.differential_confirm, 0.0, 1.0);
-  c.pitch_mean_confirm = s.get_number("pitch_mean_confirm", c.pitch_mean_confirm, 0.0, 10.0);
-  c.pitch_mean_time = s.get_number("pitch_mean_time", c.pitch_mean_time, 0.01, 600.0);
+  c.pitch_offset_confirm = s.get_number("pitch_offset_confirm", c.pitch_offset_confirm, 0.0, 10.0);
+  c.pitch_offset_time = s.get_number("pitch_offset_time", c.pitch_offset_time, 0.1, 600.0);
   c.rotor_speed_max = s.get_number("rotor_speed_max", c.rotor_speed_max, 0.1, 100.0);
   c.generator_speed_max = s.get_number("generator_speed_max", c.generator_speed_max, 1.0, 10000.0);
   c.torque_max = s.get_number("torque_max", c.torque_max, 1.0, 1e9);
@@ -93,7 +93,8 @@ BiasEstimator::BiasEstimator(const BiasConfig& config, const GainFile& dt, const
   // from the measured torque to its reference.
   const double T = dt.sample_time, tau = turbine.converter_time_constant;
   dt_ = T;
-  pitch_mean_a_ = 1.0 - std::exp(-T / cfg_.pitch_mean_time);
+  pitch_offset_forget_ = std::exp(-T / cfg_.pitch_offset_time);
+  rate_a_ = 1.0 - std::exp(-T / 0.1);  // the reference rate low-passed over 0.1 s (the actuator's own time scale)
   torque_avg_ = tau > 0.0 ? 1.0 - tau / T * (1.0 - std::exp(-T / tau)) : 1.0;
   auto inv = [](double b) { return b > 0.0 ? 1.0 / b : 0.0; };
   for (int j = 0; j < 2; ++j)
@@ -157,7 +158,7 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       repeated_[b] = y == last_pitch_[b] ? repeated_[b] + 1 : 0;
       last_pitch_[b] = y;
       const bool stuck = cfg_.stuck_time > 0.0 && repeated_[b] * dt_ >= cfg_.stuck_time;
-      pitch_mean_[b] += pitch_mean_a_ * ((y - r) - pitch_mean_[b]);
+      pitch_offset_[b].update(y - r, r, dt_, pitch_offset_forget_, rate_a_);
       if (context_.pitch_actuator_suspect[b]) {
         // Another service (pitch_diag) reports this blade's actuator: the observer's healthy actuator model
         // would turn the actuator's fault into a sensor bias. Hold, as below.
@@ -254,6 +255,29 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
   return all_ok;
 }
 
+void BiasEstimator::OffsetFit::update(double r, double ref, double dt, double forget, double rate_a) {
+  if (!started) {
+    started = true;
+    last_ref = ref;
+  }
+  v_lp += rate_a * ((ref - last_ref) / dt - v_lp);
+  last_ref = ref;
+  s11 = forget * s11 + 1.0;
+  s1v = forget * s1v + v_lp;
+  svv = forget * svv + v_lp * v_lp;
+  s1r = forget * s1r + r;
+  svr = forget * svr + v_lp * r;
+}
+
+double BiasEstimator::OffsetFit::offset() const {
+  // Normal equations of [1 -v] [b tau]^T = r; a window without reference motion leaves tau undetermined, and
+  // then the offset is the plain mean.
+  const double det = s11 * svv - s1v * s1v;
+  if (s11 <= 0.0) return 0.0;
+  if (det <= 1e-9 * s11 * (svv + 1e-12)) return s1r / s11;
+  return (svv * s1r - s1v * svr) / det;
+}
+
 void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
   const double a = filter_a_;
   static const char* kUnit[] = {"rad/s", "rad/s", "deg", "deg", "deg"};
@@ -276,11 +300,11 @@ void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
       const double d = c == 0 ? filtered_diff_ : -filtered_diff_ * turbine_.gear_ratio;
       const double along = filtered_[k] >= 0.0 ? d : -d;
       if (cfg_.differential_confirm > 0.0) stat = std::min(stat, std::max(0.0, along) / cfg_.differential_confirm);
-    } else if (c >= 2 && cfg_.mode == Mode::kObserver && cfg_.pitch_mean_confirm > 0.0) {
-      // Which fault of the blade: the slow residual mean must carry the bias (same sign), as min() above.
-      const double m = pitch_mean_[k - 2];
+    } else if (c >= 2 && cfg_.mode == Mode::kObserver && cfg_.pitch_offset_confirm > 0.0) {
+      // Which fault of the blade: its static offset (lag removed) must carry the bias (same sign), as min() above.
+      const double m = pitch_offset_[k - 2].offset();
       const double along = filtered_[k] >= 0.0 ? m : -m;
-      stat = std::min(stat, std::max(0.0, along) / cfg_.pitch_mean_confirm);
+      stat = std::min(stat, std::max(0.0, along) / cfg_.pitch_offset_confirm);
     }
     auto event = [&](bool raised, double since) {
       FaultEvent e;

@@ -43,13 +43,13 @@ struct BiasConfig {
   /// Observer mode: a speed sensor is flagged only when the differential b_r - b_g / N (what the two speed
   /// sensors alone can see) confirms it with the same sign and at least this share of the threshold.
   double differential_confirm = 0.5;
-  /// Observer mode: a pitch sensor is flagged only when the slow mean of (measured pitch - reference) confirms
-  /// it with the same sign and at least this share of the threshold. An actuator fault keeps the actuator's
-  /// static gain of 1 (seed 002 Table 1 changes omega_n and zeta only), so it moves that mean little, while a
-  /// sensor bias, gain or stuck reading shifts it: a leaking actuator is not a pitch-sensor fault. 0: off.
-  double pitch_mean_confirm = 0.6;
-  double pitch_mean_time = 10.0;  ///< s, time constant of that mean: a leaking actuator lags the 1P IPC swing of
-                                  ///< +/-3 deg by 2.5 deg; 10 s leaves 0.16 deg of it (3 s left 0.5 deg)
+  /// Observer mode: a pitch sensor is flagged only when the static offset of the blade confirms it with the
+  /// same sign and at least this share of the threshold. The offset b comes from (pitch - reference) = b - tau
+  /// d(reference)/dt fitted by least squares over pitch_offset_time: the actuator's lag (tau 0.1 s healthy,
+  /// 0.5 s leaking) is taken by the rate term, and an actuator fault keeps static gain 1 (seed 002 Table 1
+  /// changes omega_n and zeta only), while a sensor bias, gain or stuck reading shifts b. 0: off.
+  double pitch_offset_confirm = 0.6;
+  double pitch_offset_time = 3.0;  ///< s, forgetting time constant of that fit
   double rotor_speed_max = 5.0;        ///< rad/s; larger or negative: rejected
   double generator_speed_max = 400.0;  ///< rad/s
   double torque_max = 1e6;             ///< N m, |generator torque| and |aerodynamic torque|
@@ -155,8 +155,16 @@ class BiasEstimator {
   InputContext context_;
   std::array<double, 3> last_pitch_{};
   std::array<int, 3> repeated_{};  // consecutive samples with the same pitch reading
-  std::array<double, 3> pitch_mean_{};  // low-passed measured pitch - reference (deg)
-  double pitch_mean_a_ = 0.0;
+  /// Exponentially weighted least squares of r = b - tau v (r = pitch - reference, v = reference rate).
+  struct OffsetFit {
+    double s11 = 0, s1v = 0, svv = 0, s1r = 0, svr = 0;
+    double v_lp = 0, last_ref = 0;
+    bool started = false;
+    void update(double r, double ref, double dt, double forget, double rate_a);
+    double offset() const;
+  };
+  std::array<OffsetFit, 3> pitch_offset_{};
+  double pitch_offset_forget_ = 1.0, rate_a_ = 1.0;
 };
 
 }  // namespace windfdi::sensor_bias
