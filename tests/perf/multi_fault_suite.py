@@ -172,8 +172,8 @@ def run_fast(scenario, work):
     subprocess.run([os.path.join(BIN, "windfdi-plant"), "--scenario", scenario, "--offline", "--record", frames,
                     "--log-level", "warn"], check=True)
     history = os.path.join(work, "history.jsonl")
-    subprocess.run([find_tool("system_replay"), frames, "--history", history], check=True,
-                   stderr=subprocess.DEVNULL)
+    subprocess.run([find_tool("system_replay"), frames, "--history", history], check=True, capture_output=True,
+                   text=True)
     return history
 
 
@@ -318,7 +318,7 @@ def main():
             history = run_fast(f, work) if a.mode == "fast" else run_dds(f, work, a.rate)
             return report(f, history)
         except subprocess.CalledProcessError as e:
-            print(f"multi_fault_suite: {os.path.basename(f)}: {e}", file=sys.stderr)
+            print(f"multi_fault_suite: {os.path.basename(f)}: {e} {e.stderr or ''}", file=sys.stderr)
             return None
 
     # fast: one scenario per core; dds: one at a time (a scenario's processes share the two cores).
