@@ -173,7 +173,7 @@ INSTANTIATE_TEST_SUITE_P(
     [](const auto& i) { return std::string(i.param.name); });
 
 // One fault through the whole system (every service, the arbiter closing the loop on the plant): one right
-// report, nothing on the components its residuals touch, and no stop (ARCHITECTURE "Isolation").
+// report, nothing on the components its residuals touch, and no stop (deploy/arbiter/DECISION_TABLE.md).
 struct Chain {
   const char* name;
   const char* scenario;
