@@ -11,8 +11,8 @@
 
 namespace windfdi {
 
-/// The suspect inputs of one turbine (deploy/arbiter/DECISION_TABLE.md "Isolation", first layer): a core that relies on a
-/// suspect input uses a redundant value or holds its judgement instead of raising a fault of its own.
+/// The suspect inputs of one turbine (deploy/arbiter/DECISION_TABLE.md "Isolation", first layer): a core that
+/// relies on a suspect input uses a redundant value or holds its judgement instead of raising a fault of its own.
 struct InputContext {
   bool rotor_speed_suspect = false;
   bool generator_speed_suspect = false;
