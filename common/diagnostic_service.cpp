@@ -57,7 +57,8 @@ std::vector<FaultEvent> read_context_events(const std::string& file) {
       throw ConfigError(file, n, "", std::string("not a fault event: ") + e.what());
     }
   }
-  std::stable_sort(out.begin(), out.end(), [](const FaultEvent& a, const FaultEvent& b) { return a.t < b.t; });
+  std::stable_sort(out.begin(), out.end(),
+                   [](const FaultEvent& a, const FaultEvent& b) { return a.t < b.t; });
   return out;
 }
 
@@ -74,10 +75,12 @@ int run_replay_mode(const ServiceSpec& spec, const ReplayOptions& options, const
                                          context_events[next_context].t <= s.t;
                                        ++next_context) {
                                     const FaultEvent& e = context_events[next_context];
-                                    auto& tracker = contexts.try_emplace(e.turbine_id, spec.name).first->second;
+                                    auto& tracker =
+                                        contexts.try_emplace(e.turbine_id, spec.name).first->second;
                                     if (!tracker.on_fault(e)) continue;
                                     const auto it = turbines.find(e.turbine_id.empty() ? id : e.turbine_id);
-                                    if (it != turbines.end() && it->second) it->second->set_context(tracker.context(), s.t);
+                                    if (it != turbines.end() && it->second)
+                                      it->second->set_context(tracker.context(), s.t);
                                   }
                                   return feed(
                                       spec, id, *d, s, gap, [&](FaultEvent& e) { sink.event(e); },

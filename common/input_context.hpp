@@ -12,7 +12,8 @@
 namespace windfdi {
 
 /// The suspect inputs of one turbine (deploy/arbiter/DECISION_TABLE.md "Isolation", first layer): a core that
-/// relies on a suspect input uses a redundant value or holds its judgement instead of raising a fault of its own.
+/// relies on a suspect input uses a redundant value or holds its judgement instead of raising a fault of its
+/// own.
 struct InputContext {
   bool rotor_speed_suspect = false;
   bool generator_speed_suspect = false;
@@ -24,9 +25,10 @@ struct InputContext {
 
   bool speed_suspect() const { return rotor_speed_suspect || generator_speed_suspect; }
   bool operator==(const InputContext& o) const {
-    return rotor_speed_suspect == o.rotor_speed_suspect && generator_speed_suspect == o.generator_speed_suspect &&
-           pitch_sensor_suspect == o.pitch_sensor_suspect && pitch_actuator_suspect == o.pitch_actuator_suspect &&
-           transitions == o.transitions;
+    return rotor_speed_suspect == o.rotor_speed_suspect &&
+           generator_speed_suspect == o.generator_speed_suspect &&
+           pitch_sensor_suspect == o.pitch_sensor_suspect &&
+           pitch_actuator_suspect == o.pitch_actuator_suspect && transitions == o.transitions;
   }
 };
 

@@ -26,10 +26,12 @@ const std::vector<Signature>& signature_table() {
        "the drive-train observer places part of a generator-speed error on the rotor-speed bias"},
       {"pitch_sensor_i", "*", "pitch_diag", "pitch_actuator_i",
        "the measured pitch is the identified actuator output"},
-      {"pitch_sensor_i", "*", "blade_load", "blade_moment_sensor_i", "the blade's load model takes its pitch"},
+      {"pitch_sensor_i", "*", "blade_load", "blade_moment_sensor_i",
+       "the blade's load model takes its pitch"},
       {"pitch_actuator_i", "*", "sensor_bias", "pitch_sensor_i",
        "the pitch observer predicts with the healthy actuator model"},
-      {"pitch_actuator_i", "*", "blade_load", "blade_moment_sensor_i", "the blade's load follows its real pitch"},
+      {"pitch_actuator_i", "*", "blade_load", "blade_moment_sensor_i",
+       "the blade's load follows its real pitch"},
       {"rotor", "ice_accretion,ice_shedding", "blade_load", "blade_moment_sensor_*",
        "ice changes the blades' aerodynamics and mass"},
   };
@@ -41,7 +43,8 @@ namespace {
 // Blade number ('1'..'3') of a blade component, or 0.
 char blade_of(const std::string& component) {
   const char last = component.empty() ? 0 : component.back();
-  return (last >= '1' && last <= '3' && component.size() > 2 && component[component.size() - 2] == '_') ? last : 0;
+  return (last >= '1' && last <= '3' && component.size() > 2 && component[component.size() - 2] == '_') ? last
+                                                                                                        : 0;
 }
 
 // Matches `component` against a row pattern; `bound` is the blade the other side fixed (0: none).
@@ -68,7 +71,8 @@ const Signature* row_for(const Report& root, const Report& responder) {
     const std::size_t n = std::strlen(s.root_component);
     const bool per_blade = n >= 2 && s.root_component[n - 1] == 'i' && s.root_component[n - 2] == '_';
     const char blade = per_blade ? blade_of(root.component) : 0;
-    if (matches(s.root_component, root.component, 0) && matches(s.responder_component, responder.component, blade))
+    if (matches(s.root_component, root.component, 0) &&
+        matches(s.responder_component, responder.component, blade))
       return &s;
   }
   return nullptr;
@@ -93,8 +97,8 @@ std::vector<Verdict> isolate(const std::vector<Report>& reports, const Isolation
       if (!row || R.t_detected < S.t_detected - c.lead) continue;  // R came long before: not S's echo
       if (explains(R, S)) {
         // Each explains the other: the one seen first is the root; a sensor wins a tie.
-        const bool s_first = S.t_detected < R.t_detected ||
-                             (S.t_detected == R.t_detected && S.component.find("sensor") != std::string::npos);
+        const bool s_first = S.t_detected < R.t_detected || (S.t_detected == R.t_detected &&
+                                                             S.component.find("sensor") != std::string::npos);
         if (!s_first) continue;
       }
       out[r] = {true, S.component + " " + S.fault, row->why};
@@ -110,7 +114,8 @@ std::vector<Verdict> isolate(const std::vector<Report>& reports, const Isolation
     bool seen[3] = {false, false, false};
     for (const auto& S : reports)
       if (S.source == R.source && S.component.compare(0, family.size(), family) == 0 &&
-          S.component.size() == family.size() + 1 && std::fabs(S.t_detected - R.t_detected) <= c.common_window)
+          S.component.size() == family.size() + 1 &&
+          std::fabs(S.t_detected - R.t_detected) <= c.common_window)
         seen[blade_of(S.component) - '1'] = true;
     if (seen[0] && seen[1] && seen[2])
       out[r] = {true, "common cause on every blade",

@@ -12,10 +12,10 @@ namespace windfdi::isolation {
 /// component whose blade is bound by the other side of the row: pitch_sensor_i explains pitch_actuator_i).
 struct Signature {
   const char* root_component;
-  const char* root_classes;         ///< "*" or a comma-separated list of fault classes
-  const char* responder_source;     ///< the service whose residual responds
+  const char* root_classes;      ///< "*" or a comma-separated list of fault classes
+  const char* responder_source;  ///< the service whose residual responds
   const char* responder_component;
-  const char* why;                  ///< the physical path, for the report's "explained by" detail
+  const char* why;  ///< the physical path, for the report's "explained by" detail
 };
 
 /// The table (documented in deploy/arbiter/DECISION_TABLE.md "Isolation"; every row is a unit test).

@@ -37,11 +37,13 @@ void DiagnosticNode::take_context() {
     // The control content only: a republished configuration, or new reasons alone, moves nothing.
     std::string content = std::to_string(c.mode()) + "/" + std::to_string(c.ipc_source()) + "/" +
                           std::to_string(c.use_corrected_rotor_speed()) +
-                          std::to_string(c.use_corrected_generator_speed()) + "/" + std::to_string(c.ice_mode());
+                          std::to_string(c.use_corrected_generator_speed()) + "/" +
+                          std::to_string(c.ice_mode());
     for (int i = 0; i < 3; ++i)
       content += "/" + std::to_string(c.use_corrected_pitch()[i]) + std::to_string(c.pitch_rate_limit()[i]);
     auto& last = last_control_[c.turbine_id()];
-    if (!last.empty() && last != content) contexts_.try_emplace(c.turbine_id(), service_).first->second.on_reconfiguration();
+    if (!last.empty() && last != content)
+      contexts_.try_emplace(c.turbine_id(), service_).first->second.on_reconfiguration();
     last = content;
   }
 }

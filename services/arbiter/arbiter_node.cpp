@@ -48,8 +48,9 @@ ArbiterNode::ArbiterNode(const CommonOptions& common, const ArbiterConfig& confi
       inertia_(participant_, common.turbines, &wakeup_),
       pitch_(participant_, common.turbines, &wakeup_),
       acks_(participant_, common.turbines, &wakeup_),
-      config_out_(participant_, "control",
-                  [&](eprosima::fastdds::dds::DataWriterQos& q) { q.ownership_strength().value = options.strength; }),
+      config_out_(
+          participant_, "control",
+          [&](eprosima::fastdds::dds::DataWriterQos& q) { q.ownership_strength().value = options.strength; }),
       health_(participant_, "arbiter", common.turbines) {}
 
 bool ArbiterNode::serves(const std::string& id) const {
@@ -71,7 +72,8 @@ void ArbiterNode::handle_inputs(double wall) {
   std::vector<windfdi::PitchActuatorEstimate> pitch;
   pitch_.take(pitch);
   for (const auto& est : pitch)
-    if (serves(est.turbine_id()) && std::isfinite(est.t())) turbine(est.turbine_id()).clock.observe(est.t(), wall);
+    if (serves(est.turbine_id()) && std::isfinite(est.t()))
+      turbine(est.turbine_id()).clock.observe(est.t(), wall);
   std::vector<windfdi::FaultReport> reports;
   faults_.take(reports);
   for (const auto& r : reports) {
@@ -92,7 +94,8 @@ void ArbiterNode::handle_inputs(double wall) {
     if (!c.alive) spdlog::warn("service {} for turbine {} lost its liveliness", c.service, c.turbine_id);
     // "*": a farm-wide service instance speaks for every turbine.
     for (auto& [id, t] : turbines_)
-      if (c.turbine_id == "*" || c.turbine_id == id) t.arbiter.on_service_alive(c.service, c.alive, t.clock.now(wall));
+      if (c.turbine_id == "*" || c.turbine_id == id)
+        t.arbiter.on_service_alive(c.service, c.alive, t.clock.now(wall));
     if (c.alive && serves(c.turbine_id)) {
       Turbine& t = turbine(c.turbine_id);
       t.arbiter.on_service_alive(c.service, true, t.clock.now(wall));

@@ -168,9 +168,10 @@ int print_history(const std::string& db, const std::string& turbine, double sinc
 
 namespace windfdi::farm {
 
-int print_report(const std::string& db, const std::string& scenario, double since, const std::string& history_file,
-                 bool json) {
-  const auto history = history_file.empty() ? FarmStore(db).history("", since) : read_history_jsonl(history_file);
+int print_report(const std::string& db, const std::string& scenario, double since,
+                 const std::string& history_file, bool json) {
+  const auto history =
+      history_file.empty() ? FarmStore(db).history("", since) : read_history_jsonl(history_file);
   const auto rows = match(read_injected(scenario), history);
   if (json) {
     std::cout << report_json(rows, history).dump() << "\n";

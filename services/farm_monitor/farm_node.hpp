@@ -50,8 +50,8 @@ int publish_ack(const CommonOptions& common, const std::string& turbine, const s
 /// Prints injected faults against detections (ends the demo).
 /// `history_file` (JSON Lines of `history --json`) instead of the database when given.
 /// `json`: one JSON object (faults, extra reports, stops) instead of the tables.
-int print_report(const std::string& db, const std::string& scenario, double since, const std::string& history_file,
-                 bool json);
+int print_report(const std::string& db, const std::string& scenario, double since,
+                 const std::string& history_file, bool json);
 
 /// Prints the stored history (a table, or JSON Lines with `json`).
 int print_history(const std::string& db, const std::string& turbine, double since, bool json);

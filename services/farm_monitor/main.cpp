@@ -39,10 +39,12 @@ int main(int argc, char** argv) {
   report->add_option("--scenario", scenario, "the plant scenario that was run")->required();
   report->add_option("--since", since, "only events received at or after this Unix time (s)");
   std::string history_file;
-  report->add_option("--history", history_file,
-                     "report on a history file (windfdi-farm history --json, or system_replay) instead of --db");
+  report->add_option(
+      "--history", history_file,
+      "report on a history file (windfdi-farm history --json, or system_replay) instead of --db");
   bool report_json = false;
-  report->add_flag("--json", report_json, "one JSON object (faults, extra reports, safe stops) instead of tables");
+  report->add_flag("--json", report_json,
+                   "one JSON object (faults, extra reports, safe stops) instead of tables");
 
   return run_main(app, argc, argv, common, [&] {
     if (*report) return farm::print_report(options.db, scenario, since, history_file, report_json);

@@ -193,8 +193,8 @@ TEST_P(IsolationChain, OneFaultGivesOneReportAndNoStop) {
     farm.service(exe);
   std::this_thread::sleep_for(std::chrono::seconds(2));
   // GIVEN the chain's scenario (fault at 300 s, after blade_load has learned) at 20x real time, closed loop
-  auto& plant = farm.start({bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/" + c.scenario, "--rate",
-                            "20", "--progress", "0"},
+  auto& plant = farm.start({bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/" + c.scenario,
+                            "--rate", "20", "--progress", "0"},
                            "plant");
   ASSERT_EQ(plant.wait(std::chrono::seconds(120)), 0) << plant.stderr_text();
   std::this_thread::sleep_for(std::chrono::seconds(3));
@@ -202,8 +202,8 @@ TEST_P(IsolationChain, OneFaultGivesOneReportAndNoStop) {
   // THEN the fault's own report was raised
   bool found = false;
   for (const auto& r : history)
-    found |= r["kind"] == "fault" && r["data"]["state"] == "raised" && r["data"]["component"] == c.component &&
-             r["data"]["fault"] == c.fault;
+    found |= r["kind"] == "fault" && r["data"]["state"] == "raised" &&
+             r["data"]["component"] == c.component && r["data"]["fault"] == c.fault;
   EXPECT_TRUE(found) << c.component << " " << c.fault << " not raised\n" << farm.logs();
   // AND nothing on the components its residuals touch
   for (const auto& r : history) {
@@ -216,18 +216,29 @@ TEST_P(IsolationChain, OneFaultGivesOneReportAndNoStop) {
   for (const auto& cfg : farm.configurations()) EXPECT_NE(cfg["mode"], 2) << cfg.dump();
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Chains, IsolationChain,
-    ::testing::Values(
-        Chain{"rotor_speed_stuck_raises_no_blade_or_pitch_report", "chain_rotor_speed_stuck.yaml",
-              "rotor_speed_sensor", "sensor_bias", {"blade_moment_sensor_", "pitch_sensor_", "pitch_actuator_"}},
-        Chain{"stuck_pitch_sensor_is_no_actuator_fault", "chain_pitch_stuck.yaml", "pitch_sensor_1", "sensor_bias",
-              {"pitch_actuator_"}},
-        Chain{"high_air_content_at_18_never_stops", "chain_high_air_content_18.yaml", "pitch_actuator_2",
-              "high_air_content", {"pitch_sensor_", "blade_moment_sensor_"}},
-        Chain{"generator_speed_bias_raises_no_actuator_fault", "chain_generator_speed_bias.yaml",
-              "generator_speed_sensor", "sensor_bias", {"pitch_actuator_"}}),
-    [](const auto& i) { return std::string(i.param.name); });
+INSTANTIATE_TEST_SUITE_P(Chains, IsolationChain,
+                         ::testing::Values(Chain{"rotor_speed_stuck_raises_no_blade_or_pitch_report",
+                                                 "chain_rotor_speed_stuck.yaml",
+                                                 "rotor_speed_sensor",
+                                                 "sensor_bias",
+                                                 {"blade_moment_sensor_", "pitch_sensor_",
+                                                  "pitch_actuator_"}},
+                                           Chain{"stuck_pitch_sensor_is_no_actuator_fault",
+                                                 "chain_pitch_stuck.yaml",
+                                                 "pitch_sensor_1",
+                                                 "sensor_bias",
+                                                 {"pitch_actuator_"}},
+                                           Chain{"high_air_content_at_18_never_stops",
+                                                 "chain_high_air_content_18.yaml",
+                                                 "pitch_actuator_2",
+                                                 "high_air_content",
+                                                 {"pitch_sensor_", "blade_moment_sensor_"}},
+                                           Chain{"generator_speed_bias_raises_no_actuator_fault",
+                                                 "chain_generator_speed_bias.yaml",
+                                                 "generator_speed_sensor",
+                                                 "sensor_bias",
+                                                 {"pitch_actuator_"}}),
+                         [](const auto& i) { return std::string(i.param.name); });
 
 TEST(RestartedService, ARestartOnARunningTurbineRaisesNothingAndTheRealFaultIsFound) {
   // GIVEN pitch_diag, the arbiter and the farm on hydraulic_leakage.yaml (blade 3 leaks from 150 s) at 5x

@@ -170,9 +170,13 @@ int configs(const CommonOptions& common, double timeout) {
     got.clear();
     reader.take(got);
     for (const auto& c : got)
-      std::cout << nlohmann::json{{"received_at", wall_time()}, {"t", c.t()}, {"turbine_id", c.turbine_id()},
-                                  {"arbiter_id", c.arbiter_id()}, {"revision", c.revision()},
-                                  {"mode", static_cast<int>(c.mode())}, {"ipc_source", static_cast<int>(c.ipc_source())},
+      std::cout << nlohmann::json{{"received_at", wall_time()},
+                                  {"t", c.t()},
+                                  {"turbine_id", c.turbine_id()},
+                                  {"arbiter_id", c.arbiter_id()},
+                                  {"revision", c.revision()},
+                                  {"mode", static_cast<int>(c.mode())},
+                                  {"ipc_source", static_cast<int>(c.ipc_source())},
                                   {"ice_mode", static_cast<int>(c.ice_mode())},
                                   {"pitch_rate_limit", c.pitch_rate_limit()},
                                   {"use_corrected_rotor_speed", c.use_corrected_rotor_speed()},

@@ -4,12 +4,11 @@
 // Open loop (the arbiter's configurations do not reach the recorded plant): a fast way to tune and judge
 // the services together; the DDS system itself is judged by multi_fault_suite.sh.
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
-
 #include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 
 #include "blade_load_service.hpp"
 #include "decision.hpp"
@@ -40,7 +39,8 @@ struct Turbine {
 
 nlohmann::json config_json(const arbiter::Configuration& c, const std::string& id, double t) {
   nlohmann::json reasons = nlohmann::json::array();
-  for (const auto& r : c.reasons) reasons.push_back(r.source + "/" + r.component + "/" + r.fault + ": " + r.action);
+  for (const auto& r : c.reasons)
+    reasons.push_back(r.source + "/" + r.component + "/" + r.fault + ": " + r.action);
   return {{"t", t},
           {"turbine_id", id},
           {"arbiter_id", "system_replay"},
@@ -79,46 +79,48 @@ int main(int argc, char** argv) {
     std::vector<FaultEvent> produced;
     ReplayOptions options;
     options.frames = frames;
-    const auto stats = run_replay(options, {}, [&](const std::string& id, const FrameSample& s, bool gap, ReplaySink&) {
-      auto [tit, fresh] = turbines.try_emplace(id, Turbine{arbiter::Arbiter(arbiter_config), {}, false, s.t});
-      Turbine& turbine = tit->second;
-      produced.clear();
-      bool ok = true;
-      for (auto& svc : services) {
-        auto& d = svc.turbines[id];
-        if (!d) d = svc.spec.make(id);
-        const InputContext& c = svc.contexts.try_emplace(id, svc.spec.name).first->second.context();
-        if (!(svc.given[id] == c)) {
-          svc.given[id] = c;
-          d->set_context(c, s.t);
-        }
-        std::vector<FaultEvent> ev;
-        ok &= d->update(s, gap, ev);
-        std::vector<std::string> values;
-        d->estimate_due(values);
-        for (auto& e : ev) {
-          e.turbine_id = id;
-          e.source = svc.spec.name;
-          produced.push_back(e);
-        }
-      }
-      for (const auto& e : produced) {
-        ++events;
-        write("fault", s.t, to_json(e));
-        for (auto& svc : services) svc.contexts.try_emplace(id, svc.spec.name).first->second.on_fault(e);
-        turbine.arbiter.on_fault(e, s.t);
-      }
-      if (s.t >= turbine.next_evaluation) {
-        turbine.next_evaluation = s.t + 0.1;
-        const auto c = turbine.arbiter.evaluate(s.t);
-        if (!turbine.have_last || c != turbine.last) {
-          write("config", s.t, config_json(c, id, s.t));
-          turbine.last = c;
-          turbine.have_last = true;
-        }
-      }
-      return ok;
-    });
+    const auto stats =
+        run_replay(options, {}, [&](const std::string& id, const FrameSample& s, bool gap, ReplaySink&) {
+          auto [tit, fresh] =
+              turbines.try_emplace(id, Turbine{arbiter::Arbiter(arbiter_config), {}, false, s.t});
+          Turbine& turbine = tit->second;
+          produced.clear();
+          bool ok = true;
+          for (auto& svc : services) {
+            auto& d = svc.turbines[id];
+            if (!d) d = svc.spec.make(id);
+            const InputContext& c = svc.contexts.try_emplace(id, svc.spec.name).first->second.context();
+            if (!(svc.given[id] == c)) {
+              svc.given[id] = c;
+              d->set_context(c, s.t);
+            }
+            std::vector<FaultEvent> ev;
+            ok &= d->update(s, gap, ev);
+            std::vector<std::string> values;
+            d->estimate_due(values);
+            for (auto& e : ev) {
+              e.turbine_id = id;
+              e.source = svc.spec.name;
+              produced.push_back(e);
+            }
+          }
+          for (const auto& e : produced) {
+            ++events;
+            write("fault", s.t, to_json(e));
+            for (auto& svc : services) svc.contexts.try_emplace(id, svc.spec.name).first->second.on_fault(e);
+            turbine.arbiter.on_fault(e, s.t);
+          }
+          if (s.t >= turbine.next_evaluation) {
+            turbine.next_evaluation = s.t + 0.1;
+            const auto c = turbine.arbiter.evaluate(s.t);
+            if (!turbine.have_last || c != turbine.last) {
+              write("config", s.t, config_json(c, id, s.t));
+              turbine.last = c;
+              turbine.have_last = true;
+            }
+          }
+          return ok;
+        });
     std::cerr << "system_replay: " << stats.samples << " samples, " << events << " fault events\n";
   } catch (const ConfigError& e) {
     std::cerr << "system_replay: " << e.what() << "\n";

@@ -38,7 +38,8 @@ const char* to_string(IceMode m) {
 ArbiterConfig load_arbiter_config(const YamlSection& s) {
   s.require_known_keys({"clear_hold", "nominal_pitch_rate", "derated_pitch_rate", "rotor_speed_bias_limit",
                         "generator_speed_bias_limit", "pitch_bias_limit", "has_lidar", "inertia_step",
-                        "stop_confirm_time", "class_settle_time", "isolation_lead", "isolation_common_window"});
+                        "stop_confirm_time", "class_settle_time", "isolation_lead",
+                        "isolation_common_window"});
   ArbiterConfig c;
   c.clear_hold = s.get_number("clear_hold", c.clear_hold, 0.0, 3600.0);
   c.nominal_pitch_rate = s.get_number("nominal_pitch_rate", c.nominal_pitch_rate, 1.0, 30.0);
@@ -214,14 +215,16 @@ void Arbiter::apply(Cause& cause, double now, Configuration& cfg) {
              "=derated");
     } else if (stop_class) {
       demand(cfg.mode, Mode::kDegraded);
-      reason("mode=degraded, pitch_rate_limit_" + std::to_string(blade + 1) + "=derated; safe stop when confirmed");
+      reason("mode=degraded, pitch_rate_limit_" + std::to_string(blade + 1) +
+             "=derated; safe stop when confirmed");
     } else {
       reason("pitch_rate_limit_" + std::to_string(blade + 1) + "=derated; maintenance");
     }
   } else if (e.component == "rotor") {
     const bool critical_confirmed =
-        e.fault == "ice_accretion" && (cause.latched || (cause.raised && e.severity == "critical" &&
-                                                         now - cause.severity_since >= config_.stop_confirm_time));
+        e.fault == "ice_accretion" &&
+        (cause.latched || (cause.raised && e.severity == "critical" &&
+                           now - cause.severity_since >= config_.stop_confirm_time));
     if (critical_confirmed) {
       cause.latched = true;
       demand(cfg.ice_mode, IceMode::kStop);

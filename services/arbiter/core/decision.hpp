@@ -2,9 +2,8 @@
 // health in, its control configuration (with reasons) out. No DDS; time is an argument.
 #pragma once
 
-#include <cmath>
-
 #include <array>
+#include <cmath>
 #include <map>
 #include <set>
 #include <string>
@@ -109,7 +108,7 @@ class Arbiter {
     bool raised = false;
     double cleared_at = 0.0;   ///< arbiter time of the clear
     double severity_since = 0.0;  ///< arbiter time from which the report has held its present severity
-    bool latched = false;      ///< a confirmed stop (or critical fault): acts until acknowledged
+    bool latched = false;         ///< a confirmed stop (or critical fault): acts until acknowledged
   };
   bool acting(const Cause& c, double now) const;
   void apply(Cause& c, double now, Configuration& cfg);

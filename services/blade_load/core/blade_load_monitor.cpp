@@ -230,7 +230,8 @@ bool BladeLoadMonitor::inputs_suspect(const FrameSample& s) {
   bool suspect = false;
   if (cfg_.speed_mismatch > 0.0 && cfg_.gear_ratio > 0.0 && std::isfinite(s.generator_speed) &&
       (s.valid_mask & kValidGeneratorSpeed)) {
-    const double m = std::fabs(s.rotor_speed - s.generator_speed / cfg_.gear_ratio) / std::max(s.rotor_speed, 0.1);
+    const double m =
+        std::fabs(s.rotor_speed - s.generator_speed / cfg_.gear_ratio) / std::max(s.rotor_speed, 0.1);
     speed_mismatch_lp_ += a * (std::min(m, 1.0) - speed_mismatch_lp_);
     suspect |= speed_mismatch_lp_ > cfg_.speed_mismatch;
   }
@@ -416,8 +417,8 @@ void BladeLoadMonitor::maybe_adapt(double t) {
   const double pitch = op_n_ > 0 ? pitch_sum_ / op_n_ : kNaN;
   op_n_ = 0;
   shear_sum_ = lambda_sum_ = pitch_sum_ = 0.0;
-  // Not on a window the gate holds: a suspect speed or pitch (a biased lambda) taught the table a wrong k_M, and
-  // false alarms on healthy gauges followed once the fault was gone.
+  // Not on a window the gate holds: a suspect speed or pitch (a biased lambda) taught the table a wrong k_M,
+  // and false alarms on healthy gauges followed once the fault was gone.
   bool ok = cfg_.adapt && lidar_ok_ && std::isfinite(shear) && std::fabs(shear) < cfg_.uniform_shear &&
             healthy_[0][kMeanChannel].learned && !any_raised() && !gated();
   for (int b = 0; b < 3; ++b) ok = ok && sensor_valid_[b] && model_valid_[b] && !blades_[b].exceeding;

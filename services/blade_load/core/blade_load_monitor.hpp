@@ -53,17 +53,18 @@ struct MonitorConfig {
   double gate_pitch_margin = 0.25;    ///< deg (0: no gate)
   double gate_max_sensitivity = 0.25; ///< (max - min) / max of k_M over pitch +/- margin
   double gate_pitch_filter = 0.2;     ///< s, low-pass of the measured pitch for the gate (noise 0.2 deg)
-  // Inputs the load model relies on (rotor speed for lambda, each blade's pitch for k_M): while one is suspect
-  // no window is tested or learned (the steep-surface gate's hold), and an episode in progress is held.
-  double gear_ratio = 0.0;          ///< N (turbine file): the generator speed / N is the rotor speed's twin
-  double speed_mismatch = 0.05;     ///< relative |omega_r - omega_g / N| / omega_r (0.5 s low-pass) above which the
-                                    ///< two speed sensors disagree: lambda is not known (0..1, 0: off)
-  double pitch_mismatch = 3.0;      ///< deg, |pitch_i - pitch_ref_i| (0.5 s low-pass) above which blade i's pitch
-                                    ///< reading or its actuator is not what the model assumes (0: off; healthy lag
-                                    ///< 1 deg at 10 deg/s)
-  double context_hold = 10.0;       ///< s held after another service raised or cleared a fault on an input the
-                                    ///< model uses (a speed or pitch sensor, an actuator), or the arbiter
-                                    ///< reconfigured the controller; held as long as such a fault stays raised
+  // Inputs the load model relies on (rotor speed for lambda, each blade's pitch for k_M): while one is
+  // suspect no window is tested or learned (the steep-surface gate's hold), and an episode in progress is
+  // held.
+  double gear_ratio = 0.0;       ///< N (turbine file): the generator speed / N is the rotor speed's twin
+  double speed_mismatch = 0.05;  ///< relative |omega_r - omega_g / N| / omega_r (0.5 s low-pass) above which
+                                 ///< the two speed sensors disagree: lambda is not known (0..1, 0: off)
+  double pitch_mismatch = 3.0;  ///< deg, |pitch_i - pitch_ref_i| (0.5 s low-pass) above which blade i's pitch
+                                ///< reading or its actuator is not what the model assumes (0: off; healthy
+                                ///< lag 1 deg at 10 deg/s)
+  double context_hold = 10.0;  ///< s held after another service raised or cleared a fault on an input the
+                               ///< model uses (a speed or pitch sensor, an actuator), or the arbiter
+                               ///< reconfigured the controller; held as long as such a fault stays raised
   double isolation_ratio = 0.5;     ///< cross-blade channels: the other two blades must agree with each other,
                                     ///< |x_o1 - x_o2| <= this * |x_b - mean(x_o)| (a single-sensor fault, 0..2)
   double robust_clip = 3.0;         ///< healthy adaptation: a value's deviation is clipped at this many sd

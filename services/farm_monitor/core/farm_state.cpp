@@ -1,11 +1,11 @@
 // The farm monitor's live picture.
 #include "farm_state.hpp"
 
-#include "isolation.hpp"
-
 #include <algorithm>
 #include <cstdio>
 #include <sstream>
+
+#include "isolation.hpp"
 
 namespace windfdi::farm {
 

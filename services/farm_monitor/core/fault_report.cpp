@@ -19,8 +19,8 @@ namespace {
 constexpr double kAfterEnd = 60.0;
 // s a stop may follow the end of the fault that warranted it (confirmation, the configuration's way back).
 constexpr double kStopAfterEnd = 300.0;
-// Ice that warrants a stop: ice_detect's critical level (deploy/config/ice_detect.yaml critical_mass), less the
-// estimator's error (rms 1 % of the inertia, about 400 kg).
+// Ice that warrants a stop: ice_detect's critical level (deploy/config/ice_detect.yaml critical_mass), less
+// the estimator's error (rms 1 % of the inertia, about 400 kg).
 constexpr double kStopIceMass = 4500.0, kStopIceShare = 0.9;
 
 double detected_at(const nlohmann::json& d) {
@@ -147,7 +147,8 @@ std::vector<ExtraReport> extra_reports(const std::vector<InjectedFault>& injecte
       const double td = list[r].from;
       bool injected_here = false;
       for (const auto& i : injected)
-        injected_here |= i.turbine == turbine && i.component == component && td >= i.start && td <= i.end + kAfterEnd;
+        injected_here |=
+            i.turbine == turbine && i.component == component && td >= i.start && td <= i.end + kAfterEnd;
       if (injected_here) continue;
       // Isolation against the reports acting around its detection (as the arbiter saw them).
       std::vector<isolation::Report> reports = {
@@ -163,7 +164,8 @@ std::vector<ExtraReport> extra_reports(const std::vector<InjectedFault>& injecte
                      v[0].secondary, v[0].explained_by});
     }
   }
-  std::sort(out.begin(), out.end(), [](const ExtraReport& a, const ExtraReport& b) { return a.t_detected < b.t_detected; });
+  std::sort(out.begin(), out.end(),
+            [](const ExtraReport& a, const ExtraReport& b) { return a.t_detected < b.t_detected; });
   return out;
 }
 
@@ -173,9 +175,8 @@ double injected_ice(const std::vector<InjectedFault>& injected, const std::strin
   for (const auto& i : injected)
     if (i.turbine == turbine && (i.type == "ice_accretion" || i.type == "ice_shedding") && i.start <= t)
       events.push_back(&i);
-  std::stable_sort(events.begin(), events.end(), [](const InjectedFault* a, const InjectedFault* b) {
-    return a->start < b->start;
-  });
+  std::stable_sort(events.begin(), events.end(),
+                   [](const InjectedFault* a, const InjectedFault* b) { return a->start < b->start; });
   double shed = 0.0;
   auto grown = [&](double at) {
     double ice = -shed;
@@ -189,7 +190,8 @@ double injected_ice(const std::vector<InjectedFault>& injected, const std::strin
   return std::max(0.0, grown(t));
 }
 
-std::vector<StopRecord> stops(const std::vector<InjectedFault>& injected, const std::vector<HistoryRow>& history) {
+std::vector<StopRecord> stops(const std::vector<InjectedFault>& injected,
+                              const std::vector<HistoryRow>& history) {
   std::vector<StopRecord> out;
   std::map<std::string, bool> stopped;
   for (const auto& h : history) {
@@ -240,8 +242,9 @@ std::string render_report(const std::vector<ReportRow>& rows, const std::vector<
   const auto injected = injected_of(rows);
   int unexpected = 0, secondary = 0;
   for (const auto& x : extra_reports(injected, history)) {
-    std::snprintf(line, sizeof line, "%s: %s %s %s from %s at %.1f s", x.secondary ? "secondary" : "unexpected",
-                  x.turbine.c_str(), x.component.c_str(), x.fault.c_str(), x.source.c_str(), x.t_detected);
+    std::snprintf(line, sizeof line, "%s: %s %s %s from %s at %.1f s",
+                  x.secondary ? "secondary" : "unexpected", x.turbine.c_str(), x.component.c_str(),
+                  x.fault.c_str(), x.source.c_str(), x.t_detected);
     out << line << (x.secondary ? ", explained by " + x.explained_by + " (not acted on)" : "") << "\n";
     (x.secondary ? secondary : unexpected) += 1;
   }
@@ -261,22 +264,25 @@ std::string render_report(const std::vector<ReportRow>& rows, const std::vector<
   return out.str();
 }
 
-std::string render_benchmark_table(const std::vector<ReportRow>& rows, const std::vector<HistoryRow>& history) {
+std::string render_benchmark_table(const std::vector<ReportRow>& rows,
+                                   const std::vector<HistoryRow>& history) {
   std::ostringstream out;
   char line[512];
   out << "benchmark table (Odgaard, Stoustrup, Kinnaert: each fault detected and isolated while active)\n";
-  std::snprintf(line, sizeof line, "%-6s %-36s %14s  %-9s %-9s %9s %9s\n", "TURB", "FAULT", "ACTIVE (s)", "DETECTED",
-                "ISOLATED", "DELAY s", "SAMPLES");
+  std::snprintf(line, sizeof line, "%-6s %-36s %14s  %-9s %-9s %9s %9s\n", "TURB", "FAULT", "ACTIVE (s)",
+                "DETECTED", "ISOLATED", "DELAY s", "SAMPLES");
   out << line;
   int covered = 0, ok = 0;
   for (const auto& r : rows) {
     const auto& i = r.injected;
     char active[48];
-    if (i.end < 1e299) std::snprintf(active, sizeof active, "%.0f-%.0f", i.start, i.end);
-    else std::snprintf(active, sizeof active, "%.0f-", i.start);
+    if (i.end < 1e299)
+      std::snprintf(active, sizeof active, "%.0f-%.0f", i.start, i.end);
+    else
+      std::snprintf(active, sizeof active, "%.0f-", i.start);
     if (i.component.empty()) {
-      std::snprintf(line, sizeof line, "%-6s %-36s %14s  %-9s\n", i.turbine.c_str(), (i.target + ":" + i.type).c_str(),
-                    active, "(not covered)");
+      std::snprintf(line, sizeof line, "%-6s %-36s %14s  %-9s\n", i.turbine.c_str(),
+                    (i.target + ":" + i.type).c_str(), active, "(not covered)");
       out << line;
       continue;
     }
@@ -290,8 +296,8 @@ std::string render_benchmark_table(const std::vector<ReportRow>& rows, const std
       std::snprintf(samples, sizeof samples, "%.0f", r.delay / 0.01);  // the benchmark's 100 Hz samples
     }
     std::snprintf(line, sizeof line, "%-6s %-36s %14s  %-9s %-9s %9s %9s\n", i.turbine.c_str(),
-                  (i.target + ":" + i.type).c_str(), active, detected ? "yes" : "no", isolated ? "yes" : "no", delay,
-                  samples);
+                  (i.target + ":" + i.type).c_str(), active, detected ? "yes" : "no", isolated ? "yes" : "no",
+                  delay, samples);
     out << line;
   }
   int false_alarms = 0;
@@ -302,7 +308,8 @@ std::string render_benchmark_table(const std::vector<ReportRow>& rows, const std
 }
 
 nlohmann::json report_json(const std::vector<ReportRow>& rows, const std::vector<HistoryRow>& history) {
-  nlohmann::json out{{"faults", nlohmann::json::array()}, {"extra", nlohmann::json::array()},
+  nlohmann::json out{{"faults", nlohmann::json::array()},
+                     {"extra", nlohmann::json::array()},
                      {"stops", nlohmann::json::array()}};
   for (const auto& r : rows) {
     const auto& i = r.injected;

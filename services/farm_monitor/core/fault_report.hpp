@@ -29,7 +29,8 @@ struct ReportRow {
   std::vector<std::string> reclassified;  ///< classes raised on it later, in order (a service changing its mind)
   double delay = 0.0;          ///< s of measurement time from the start to t_detected
   std::string reaction;        ///< the arbiter's first configuration change after detection
-  bool detected_while_active = false;  ///< the first detection came before the fault ended (the benchmark's test)
+  bool detected_while_active =
+      false;  ///< the first detection came before the fault ended (the benchmark's test)
 };
 
 /// A raised report that no injected fault explains, or one the isolation core explains by another report.
@@ -58,13 +59,15 @@ std::vector<ExtraReport> extra_reports(const std::vector<InjectedFault>& injecte
                                        const std::vector<HistoryRow>& history);
 /// Each change to safe stop, judged against the injected faults that warrant one: a hydraulic leak active, or
 /// ended within 300 s, at that time; ice on the rotor within 10 % of ice_detect's critical 4500 kg.
-std::vector<StopRecord> stops(const std::vector<InjectedFault>& injected, const std::vector<HistoryRow>& history);
+std::vector<StopRecord> stops(const std::vector<InjectedFault>& injected,
+                              const std::vector<HistoryRow>& history);
 /// The table of injected faults against detections, then the reports no injected fault explains (secondary
 /// ones apart, with their root), the safe stops, and a summary.
 std::string render_report(const std::vector<ReportRow>& rows, const std::vector<HistoryRow>& history);
 /// The FDI/FTC benchmark's own table: per fault, detected and isolated while active, delay in s and in
 /// samples (100 Hz), and the false alarms (unexpected root reports) of the run.
-std::string render_benchmark_table(const std::vector<ReportRow>& rows, const std::vector<HistoryRow>& history);
+std::string render_benchmark_table(const std::vector<ReportRow>& rows,
+                                   const std::vector<HistoryRow>& history);
 /// The same as JSON (rows, extra reports, stops), for the multi-fault suite's aggregation.
 nlohmann::json report_json(const std::vector<ReportRow>& rows, const std::vector<HistoryRow>& history);
 /// History rows from `windfdi-farm history --json` lines (what system_replay writes too).

@@ -8,11 +8,40 @@
 namespace windfdi::ice_detect {
 
 DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& turbine) {
-  s.require_known_keys({"window", "reinit_period", "filter_time", "min_excitation", "power_gain", "friction",
-                        "clean_inertia", "learn_time", "median_estimates", "ice_radius", "warning_mass",
-                        "fault_mass", "critical_mass", "confirm_time", "clear_time", "clear_ratio", "shed_window",
-                        "shed_reinit", "shed_min_excitation", "shed_median", "shed_confirm", "shed_fraction", "shed_min_ice", "shed_hold",
-                        "min_generator_speed", "min_gen_torque", "max_pitch", "speed_mismatch", "wind_window", "power_window", "power_step_window", "power_step", "shed_power_step", "turbine_file"});
+  s.require_known_keys({"window",
+                        "reinit_period",
+                        "filter_time",
+                        "min_excitation",
+                        "power_gain",
+                        "friction",
+                        "clean_inertia",
+                        "learn_time",
+                        "median_estimates",
+                        "ice_radius",
+                        "warning_mass",
+                        "fault_mass",
+                        "critical_mass",
+                        "confirm_time",
+                        "clear_time",
+                        "clear_ratio",
+                        "shed_window",
+                        "shed_reinit",
+                        "shed_min_excitation",
+                        "shed_median",
+                        "shed_confirm",
+                        "shed_fraction",
+                        "shed_min_ice",
+                        "shed_hold",
+                        "min_generator_speed",
+                        "min_gen_torque",
+                        "max_pitch",
+                        "speed_mismatch",
+                        "wind_window",
+                        "power_window",
+                        "power_step_window",
+                        "power_step",
+                        "shed_power_step",
+                        "turbine_file"});
   DetectorConfig c;
   c.ice_radius = turbine.ice_radius;
   c.ice_cp_loss = turbine.ice_cp_loss;
@@ -86,18 +115,19 @@ bool IceDetector::update(const FrameSample& s, double power, bool gap, std::vect
   // feathered rotor is driven by the brake and the controller, where the power model does not hold.
   double pitch = 0.0;
   for (double b : s.pitch) pitch = std::max(pitch, std::isfinite(b) ? b : 90.0);
-  // The generator speed is the estimator's measurement: while its twin (the rotor speed) disagrees, or another
-  // service reports a speed sensor, it is not fed (held, like a stop) rather than read as inertia.
+  // The generator speed is the estimator's measurement: while its twin (the rotor speed) disagrees, or
+  // another service reports a speed sensor, it is not fed (held, like a stop) rather than read as inertia.
   bool speed_suspect = context_.speed_suspect();
-  if (cfg_.speed_mismatch > 0.0 && cfg_.gear_ratio > 0.0 && std::isfinite(s.rotor_speed) && s.rotor_speed > 0.1) {
+  if (cfg_.speed_mismatch > 0.0 && cfg_.gear_ratio > 0.0 && std::isfinite(s.rotor_speed) &&
+      s.rotor_speed > 0.1) {
     const double m = std::fabs(s.generator_speed / cfg_.gear_ratio - s.rotor_speed) / s.rotor_speed;
     speed_mismatch_lp_ += cfg_.estimator.sample_time / (0.5 + cfg_.estimator.sample_time) *
                           (std::min(m, 1.0) - speed_mismatch_lp_);
     speed_suspect |= speed_mismatch_lp_ > cfg_.speed_mismatch;
   }
   if (speed_suspect) ++suspect_samples_;
-  if (!speed_suspect && s.generator_speed >= cfg_.min_generator_speed && s.gen_torque >= cfg_.min_gen_torque &&
-      pitch <= cfg_.max_pitch) {
+  if (!speed_suspect && s.generator_speed >= cfg_.min_generator_speed &&
+      s.gen_torque >= cfg_.min_gen_torque && pitch <= cfg_.max_pitch) {
     if (!fed_) resumed_at_ = s.t;  // the regression starts afresh here
     fed_ = true;
     estimator_.update(s.generator_speed, power, s.gen_torque);

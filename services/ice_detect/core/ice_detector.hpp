@@ -7,8 +7,8 @@
 
 #include "fault_event.hpp"
 #include "frame_sample.hpp"
-#include "input_context.hpp"
 #include "inertia_estimator.hpp"
+#include "input_context.hpp"
 #include "turbine_params.hpp"
 #include "yaml_config.hpp"
 
@@ -41,8 +41,9 @@ struct DetectorConfig {
   double min_generator_speed = 30.0;  ///< rad/s below which the estimator is not fed (standstill)
   double min_gen_torque = 3000.0;     ///< N m; below it the turbine is not producing (stopping): not fed
   double max_pitch = 30.0;            ///< deg; above it (feathering) the power model is not trusted: not fed
-  double speed_mismatch = 0.05;       ///< relative |omega_g / N - omega_r| / omega_r (0.5 s low-pass) above which the
-                                      ///< speed sensors disagree: the generator speed is suspect, not fed (0: off)
+  double speed_mismatch =
+      0.05;  ///< relative |omega_g / N - omega_r| / omega_r (0.5 s low-pass) above which the
+             ///< speed sensors disagree: the generator speed is suspect, not fed (0: off)
 };
 
 /// Loads the `ice_detect` keys (unknown keys and out-of-range values are ConfigErrors).
@@ -100,7 +101,7 @@ class IceDetector {
   uint64_t power_changes_seen_ = 0;
   double shed_last_ = -1.0;
   InputContext context_;
-  bool fed_ = false;           // the last sample was fed to the estimators
+  bool fed_ = false;            // the last sample was fed to the estimators
   double resumed_at_ = -1e300;  // sample time the estimators were last fed again after a reset
   double speed_mismatch_lp_ = 0.0;
   uint64_t suspect_samples_ = 0;  // time the last shedding was raised

@@ -13,8 +13,8 @@ struct EstimatorConfig {
   double window = 120.0;            ///< s, w of eq 7 (measured best on the plant with a noisy anemometer)
   double reinit_period = 15.0;      ///< s between initialisation events (eq 4)
   double filter_time = 0.5;         ///< s, low-pass applied alike to speed and torque balance (drive-train mode)
-  double min_excitation = 2.0;      ///< rad/s, RMS of psi * theta over the window needed to estimate (0.5 let TI 0.06
-                                    ///< windows read +9-15 % inertia)
+  double min_excitation = 2.0;  ///< rad/s, RMS of psi * theta over the window needed to estimate (0.5 let TI
+                                ///< 0.06 windows read +9-15 % inertia)
   double power_gain = 0.97;         ///< eta: the generator-side torques are divided by it (drive-train efficiency)
   double power_window = 300.0;      ///< s of energy balance that calibrates the power model (0: no calibration)
   double power_step_window = 60.0;  ///< s of the recent energy balance watched for a step in the aerodynamics

@@ -49,9 +49,13 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s) {
                         "alpha_settle",
                         "fault_alpha",
                         "abrupt_time",
-                        "shared_alpha", "short_max_alpha",
+                        "shared_alpha",
+                        "short_max_alpha",
                         "max_tracking_error",
-                        "startup_settle", "context_hold", "hold_settle", "stuck_time",
+                        "startup_settle",
+                        "context_hold",
+                        "hold_settle",
+                        "stuck_time",
                         "pitch_min",
                         "pitch_max"});
   PitchDiagConfig c;
@@ -200,7 +204,8 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<PitchEvent>& events) 
       cls_.fault_class = "none";  // too early on the longer path
   }
   const std::string& cls = cls_.fault_class;
-  // Confirmation: the same class for confirm_time of excited data (none while settling after a start or hold).
+  // Confirmation: the same class for confirm_time of excited data (none while settling after a start or
+  // hold).
   if (t < decide_from_) {
     candidate_ = "none";
     pending_ = 0.0;

@@ -40,11 +40,11 @@ struct PitchDiagConfig {
                                     ///< towards confirmation: the bank's evidence is still young (a healthy
                                     ///< actuator read as a leak at 4.5 s, and 3.8 s after a restart)
   double context_hold = 10.0;       ///< s of sample time after the inputs' context changed (another service
-                                    ///< raised or cleared a fault on an input; the arbiter reconfigured) during
-                                    ///< which every blade is held: the controller's transient is not a fault
-  double hold_settle = 10.0;        ///< s after a hold ends before a class counts again (5 bank memories)
-  double stuck_time = 0.2;          ///< s of an exactly repeated pitch measurement that is a stuck sensor: the
-                                    ///< blade is held (a stuck sensor is not a slow actuator). 0 disables
+                               ///< raised or cleared a fault on an input; the arbiter reconfigured) during
+                               ///< which every blade is held: the controller's transient is not a fault
+  double hold_settle = 10.0;  ///< s after a hold ends before a class counts again (5 bank memories)
+  double stuck_time = 0.2;    ///< s of an exactly repeated pitch measurement that is a stuck sensor: the
+                              ///< blade is held (a stuck sensor is not a slow actuator). 0 disables
   double pitch_min = -5.0;          ///< deg; pitch or reference below it is rejected
   double pitch_max = 95.0;          ///< deg; above it is rejected
 };
@@ -117,7 +117,7 @@ class BladeDiagnoser {
   std::string raised_;  // "" when nothing is raised
   std::string raised_severity_;
   double raised_detected_ = 0.0;
-  double decide_from_ = -1e300;  // sample time before which no class is confirmed
+  double decide_from_ = -1e300;         // sample time before which no class is confirmed
   double excited_since_healthy_ = 0.0;  // s of excited data since the blade last looked healthy
   double shared_reached_after_ = -1.0;  // that excited time when it first reached the pump-wear point
 };

@@ -15,12 +15,32 @@ const std::array<const char*, kChannels>& channel_components() {
 }
 
 BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gain_dir) {
-  s.require_known_keys({"turbine_file", "mode", "drive_train_gains", "pitch_gains", "paper_drive_train_gains",
-                        "paper_pitch_gains", "threshold_rotor_speed", "threshold_generator_speed", "threshold_pitch",
-                        "raise_time", "clear_ratio", "clear_time", "filter_time", "settle_time", "witness_torque_min",
-                        "max_tracking_error", "stuck_time",
-                        "differential_confirm", "pitch_offset_confirm", "pitch_offset_time", "rotor_speed_max",
-                        "generator_speed_max", "torque_max", "wind_max", "pitch_min", "pitch_max"});
+  s.require_known_keys({"turbine_file",
+                        "mode",
+                        "drive_train_gains",
+                        "pitch_gains",
+                        "paper_drive_train_gains",
+                        "paper_pitch_gains",
+                        "threshold_rotor_speed",
+                        "threshold_generator_speed",
+                        "threshold_pitch",
+                        "raise_time",
+                        "clear_ratio",
+                        "clear_time",
+                        "filter_time",
+                        "settle_time",
+                        "witness_torque_min",
+                        "max_tracking_error",
+                        "stuck_time",
+                        "differential_confirm",
+                        "pitch_offset_confirm",
+                        "pitch_offset_time",
+                        "rotor_speed_max",
+                        "generator_speed_max",
+                        "torque_max",
+                        "wind_max",
+                        "pitch_min",
+                        "pitch_max"});
   BiasConfig c;
   c.mode = s.get_choice("mode", "observer", {"observer", "paper"}) == "paper" ? Mode::kPaper : Mode::kObserver;
   auto path = [&](const char* key, const std::string& fallback) {
@@ -94,7 +114,8 @@ BiasEstimator::BiasEstimator(const BiasConfig& config, const GainFile& dt, const
   const double T = dt.sample_time, tau = turbine.converter_time_constant;
   dt_ = T;
   pitch_offset_forget_ = std::exp(-T / cfg_.pitch_offset_time);
-  rate_a_ = 1.0 - std::exp(-T / 0.1);  // the reference rate low-passed over 0.1 s (the actuator's own time scale)
+  rate_a_ =
+      1.0 - std::exp(-T / 0.1);  // the reference rate low-passed over 0.1 s (the actuator's own time scale)
   torque_avg_ = tau > 0.0 ? 1.0 - tau / T * (1.0 - std::exp(-T / tau)) : 1.0;
   auto inv = [](double b) { return b > 0.0 ? 1.0 / b : 0.0; };
   for (int j = 0; j < 2; ++j)
@@ -301,7 +322,8 @@ void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
       const double along = filtered_[k] >= 0.0 ? d : -d;
       if (cfg_.differential_confirm > 0.0) stat = std::min(stat, std::max(0.0, along) / cfg_.differential_confirm);
     } else if (c >= 2 && cfg_.mode == Mode::kObserver && cfg_.pitch_offset_confirm > 0.0) {
-      // Which fault of the blade: its static offset (lag removed) must carry the bias (same sign), as min() above.
+      // Which fault of the blade: its static offset (lag removed) must carry the bias (same sign), as min()
+      // above.
       const double m = pitch_offset_[k - 2].offset();
       const double along = filtered_[k] >= 0.0 ? m : -m;
       stat = std::min(stat, std::max(0.0, along) / cfg_.pitch_offset_confirm);

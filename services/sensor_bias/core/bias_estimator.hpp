@@ -37,19 +37,19 @@ struct BiasConfig {
   /// Observer mode: while |pitch reference - pitch| exceeds this (deg) the actuator runs at its rate limit (a
   /// safe stop's jump to feather), where the linear actuator model does not hold: the pitch bias is held. 0: off.
   double max_tracking_error = 5.0;
-  /// s of a pitch reading repeated to the last bit: a stuck sensor (a healthy one carries noise). Its tracking
-  /// error is the fault itself, so the rate-limit hold above does not apply to it. 0: off.
+  /// s of a pitch reading repeated to the last bit: a stuck sensor (a healthy one carries noise). Its
+  /// tracking error is the fault itself, so the rate-limit hold above does not apply to it. 0: off.
   double stuck_time = 0.2;
   /// Observer mode: a speed sensor is flagged only when the differential b_r - b_g / N (what the two speed
   /// sensors alone can see) confirms it with the same sign and at least this share of the threshold.
   double differential_confirm = 0.5;
   /// Observer mode: a pitch sensor is flagged only when the static offset of the blade confirms it with the
-  /// same sign and at least this share of the threshold. The offset b comes from (pitch - reference) = b - tau
-  /// d(reference)/dt fitted by least squares over pitch_offset_time: the actuator's lag (tau 0.1 s healthy,
-  /// 0.5 s leaking) is taken by the rate term, and an actuator fault keeps static gain 1 (seed 002 Table 1
-  /// changes omega_n and zeta only), while a sensor bias, gain or stuck reading shifts b. 0: off.
+  /// same sign and at least this share of the threshold. The offset b comes from (pitch - reference) = b -
+  /// tau d(reference)/dt fitted by least squares over pitch_offset_time: the actuator's lag (tau 0.1 s
+  /// healthy, 0.5 s leaking) is taken by the rate term, and an actuator fault keeps static gain 1 (seed 002
+  /// Table 1 changes omega_n and zeta only), while a sensor bias, gain or stuck reading shifts b. 0: off.
   double pitch_offset_confirm = 0.6;
-  double pitch_offset_time = 3.0;  ///< s, forgetting time constant of that fit
+  double pitch_offset_time = 3.0;      ///< s, forgetting time constant of that fit
   double rotor_speed_max = 5.0;        ///< rad/s; larger or negative: rejected
   double generator_speed_max = 400.0;  ///< rad/s
   double torque_max = 1e6;             ///< N m, |generator torque| and |aerodynamic torque|
@@ -133,7 +133,7 @@ class BiasEstimator {
   double torque_avg_;    // share of a torque step the converter delivers on average over one sample
   double aero_damping_;  // N m s/rad folded into the drive train's A by the design (added back to the input)
   std::array<double, kChannels> inv_bias_bound_{};  // 1 / the design's bias-error bound (0: none)
-  double dt_ = 0.01;       // s, the observers' sample time (from the gain file)
+  double dt_ = 0.01;                                // s, the observers' sample time (from the gain file)
   double filter_a_ = 1.0;  // detector low-pass coefficient per sample, 1 - exp(-T / filter_time), formed once
   // States [omega_r, omega_g, theta, b_r, b_g, r_r, r_g] and [beta, beta_dot, b, r]: the bias-rate states r
   // of the integrated-random-walk design; a random-walk gain file (5 and 3 states) is loaded with them held

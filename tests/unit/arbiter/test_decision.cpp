@@ -318,7 +318,9 @@ TEST(Proportionate, AWarningGrowingToFaultStopsOnlyAfterTheFaultSeverityHeld) {
 
 TEST(Proportionate, AFlippingClassIsUncertainAndDeratedUntilItSettles) {
   Arbiter a;  // class_settle_time 30 s, stop_confirm_time 10 s
-  auto raise = [&](const char* cls, double t) { a.on_fault(fault("pitch_diag", "pitch_actuator_2", cls), t); };
+  auto raise = [&](const char* cls, double t) {
+    a.on_fault(fault("pitch_diag", "pitch_actuator_2", cls), t);
+  };
   auto clear = [&](const char* cls, double t) {
     a.on_fault(fault("pitch_diag", "pitch_actuator_2", cls, "fault", 0.0, false), t);
   };

@@ -1,10 +1,9 @@
 // Unit tests of the farm monitor's SQLite store and live table.
 #include <gtest/gtest.h>
-
-#include <algorithm>
-
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <algorithm>
 
 #include "farm_state.hpp"
 #include "farm_store.hpp"
@@ -125,11 +124,13 @@ TEST(FarmStateIsolation, TheLiveTableMarksAReportAnotherExplainsAsSecondary) {
   // THEN the blade report is shown as the speed fault's echo, the speed fault as a root
   const auto faults = st.active_faults("WT01");
   ASSERT_EQ(faults.size(), 2u);
-  EXPECT_NE(std::find(faults.begin(), faults.end(),
-                      "blade_moment_sensor_2 sensor_abrupt (critical), secondary: explained by rotor_speed_sensor "
-                      "sensor_bias"),
+  EXPECT_NE(
+      std::find(faults.begin(), faults.end(),
+                "blade_moment_sensor_2 sensor_abrupt (critical), secondary: explained by rotor_speed_sensor "
+                "sensor_bias"),
+      faults.end());
+  EXPECT_NE(std::find(faults.begin(), faults.end(), "rotor_speed_sensor sensor_bias (critical)"),
             faults.end());
-  EXPECT_NE(std::find(faults.begin(), faults.end(), "rotor_speed_sensor sensor_bias (critical)"), faults.end());
 }
 
 TEST(FaultReportTable, MatchesInjectedFaultsWithDetectionsAndReactions) {

@@ -17,8 +17,8 @@ namespace {
 YamlSection defaults() { return YamlSection(YAML::Node(YAML::NodeType::Map), "(defaults)"); }
 
 // The estimator on the bare one-mass model: no efficiency, friction or filter. The synthetic speed swings are
-// gentler than turbulence (0.5-2 rad/s of predicted speed change), so the excitation gate is the paper's lower
-// one; the service's 2.0 is for noisy measured wind.
+// gentler than turbulence (0.5-2 rad/s of predicted speed change), so the excitation gate is the paper's
+// lower one; the service's 2.0 is for noisy measured wind.
 EstimatorConfig one_mass(double power_window) {
   EstimatorConfig c;
   c.min_excitation = 0.5;

@@ -359,7 +359,9 @@ TEST(PitchDiagnoser, AStuckPitchReadingHoldsTheBladeInsteadOfReadingASlowActuato
 TEST(PitchDiagnoser, ABladeWhosePitchSensorIsReportedIsHeldUntilTheReportClears) {
   // GIVEN a leak on blade 3 from 60 s, while sensor_bias reports pitch_sensor_3 from 55 s to 120 s
   Rig rig(PitchDiagConfig{}, 0.2, 92);
-  const auto leak = [](double t, int b) { return b == 2 && t >= 60.0 ? table1("hydraulic_leakage") : table1("none"); };
+  const auto leak = [](double t, int b) {
+    return b == 2 && t >= 60.0 ? table1("hydraulic_leakage") : table1("none");
+  };
   rig.run(55.0, leak);
   InputContext suspect;
   suspect.pitch_sensor_suspect[2] = true;

@@ -442,17 +442,19 @@ TEST(ObserverMode, StepBiasOfTwoPercentFlaggedWithinFiveSecondsWithItsSize) {
 TEST(ObserverMode, AnAbruptLeakIsNoPitchSensorBias) {
   for (double wind : {16.0, 18.0}) {
     // GIVEN an abrupt hydraulic leak on blade 3's actuator from 150 s (a slow actuator, static gain 1)
-    const PlantRun r = run_plant(wind, 300.0, {plant::FaultSpec::make("WT01", "pitch_actuator_3", "hydraulic_leakage", 150.0)},
-                                 Mode::kObserver, 31 + static_cast<uint64_t>(wind));
-    // THEN no pitch sensor is flagged: the slow mean of (pitch - reference) does not carry a bias (before, the
-    // observer's healthy actuator model read the lag as a 0.7-2.6 deg bias within 1 s)
+    const PlantRun r = run_plant(
+        wind, 300.0, {plant::FaultSpec::make("WT01", "pitch_actuator_3", "hydraulic_leakage", 150.0)},
+        Mode::kObserver, 31 + static_cast<uint64_t>(wind));
+    // THEN no pitch sensor is flagged: the slow mean of (pitch - reference) does not carry a bias (before,
+    // the observer's healthy actuator model read the lag as a 0.7-2.6 deg bias within 1 s)
     for (const auto& e : r.events) ADD_FAILURE() << wind << " m/s: " << e.component << " raised at " << e.t;
   }
 }
 
 TEST(ObserverMode, AStuckPitchSensorIsFlaggedThoughItsTrackingErrorIsLarge) {
-  // GIVEN blade 1's pitch reading stuck at 5 deg from 150 s at 15 m/s (the benchmark's fault 1): the reference
-  // stands near 10 deg, so |reference - pitch| passes max_tracking_error (5 deg) that holds a rate-limited blade
+  // GIVEN blade 1's pitch reading stuck at 5 deg from 150 s at 15 m/s (the benchmark's fault 1): the
+  // reference stands near 10 deg, so |reference - pitch| passes max_tracking_error (5 deg) that holds a
+  // rate-limited blade
   auto stuck = plant::FaultSpec::make("WT01", "pitch_1", "stuck", 150.0).with_value(5.0);
   const PlantRun r = run_plant(15.0, 300.0, {stuck}, Mode::kObserver, 41);
   // THEN it is flagged on pitch_sensor_1 within 5 s (a repeated reading is not held by that gate)
