@@ -177,9 +177,9 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   // it gave a false alarm at 20 m/s, where the balance steps several times an hour, for 40 s less delay).
   const bool cp_step = estimator_.power_changes() > power_changes_seen_;
   power_changes_seen_ = estimator_.power_changes();
-  // After the regression restarted (a stop, a suspect speed, a gap), its first window is young: +9 % inertia
-  // within 100 s of a speed-sensor hold raised ice. The median keeps the estimates from before until a whole
-  // window of fresh data is in, and ice is not judged before then.
+  // After the regression restarted (a stop, a suspect speed, lost samples), its first window is young: its
+  // estimates stay out of the median until a whole window of fresh data is in. The median of the estimates from
+  // before is judged as before (a sample gap near the end of an accretion once hid it for good).
   const bool young = t - resumed_at_ < cfg_.estimator.window;
   if (!young && estimator_.excited() && estimator_.inertia() > 0.0 && !estimator_.power_unsettled()) {
     recent_.push_back(estimator_.inertia());
@@ -199,7 +199,6 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   if (estimator_.calibrated() && calibrated_at_ < 0.0) calibrated_at_ = t;
   const double settle = cfg_.estimator.window + cfg_.median_estimates;
   if (out_.inertia <= 0.0 || learning || calibrated_at_ < 0.0 || t - calibrated_at_ < settle) return;
-  if (young) return;
   level_events(t, events);
 
   // Shedding: the fast estimate falls shed_fraction of J0 below the slow one (which still remembers the
