@@ -278,7 +278,8 @@ void PitchDiagnoser::update(const FrameSample& s, std::vector<PitchEvent>& event
     repeated_[i] = y == last_y_[i] ? repeated_[i] + 1 : 0;
     last_y_[i] = y;
     const bool stuck = cfg_.stuck_time > 0.0 && repeated_[i] >= stuck_samples;
-    if (transient || stuck || suspects_.context().pitch_sensor_suspect[i]) {
+    const InputContext& ctx = suspects_.context();
+    if (transient || stuck || ctx.pitch_sensor_suspect[i] || ctx.turbine_stopped) {
       ++held_[i];
       blades_[i].hold();
       blades_[i].decide_from(s.t + cfg_.hold_settle);

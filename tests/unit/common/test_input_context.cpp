@@ -34,9 +34,14 @@ TEST(InputContextTracker, OtherServicesReportsMakeTheirComponentsSuspect) {
   EXPECT_TRUE(tracker.on_fault(report("sensor_bias", "pitch_sensor_2", false)));
   EXPECT_FALSE(tracker.context().pitch_sensor_suspect[1]);
   EXPECT_EQ(tracker.context().transitions, 3u);
-  // AND a reconfiguration by the arbiter is a transition too
-  tracker.on_reconfiguration();
+  // AND a reconfiguration by the arbiter is a transition too, a safe stop holds until the next one
+  tracker.on_reconfiguration(true);
   EXPECT_EQ(tracker.context().transitions, 4u);
+  EXPECT_TRUE(tracker.context().turbine_stopped);
+  EXPECT_TRUE(tracker.on_fault(report("sensor_bias", "pitch_sensor_1", true)));
+  EXPECT_TRUE(tracker.context().turbine_stopped);  // a fault report does not release the stop
+  tracker.on_reconfiguration(false);
+  EXPECT_FALSE(tracker.context().turbine_stopped);
 }
 
 TEST(InputContextTracker, TheServicesOwnReportsAreNotContext) {
