@@ -43,6 +43,10 @@ struct MonitorConfig {
   double confirm_revolutions = 1.1; ///< and at least this many revolutions (0..20): a single-revolution transient
                                     ///< stays in the one-revolution window for exactly one revolution
   double onset_ratio = 0.5;         ///< a run of exceedance starts above this share of the critical value (0.1..1)
+  double noise_revolutions =
+      20.0;  ///< revolutions over which each residual's present noise level is followed
+             ///< (0: off): its t-values are divided by max(1, that level / the learned
+             ///< one), read from the closest pair of blades, which one fault leaves alone
   double fast_ratio = 1.25;         ///< a large step: above this multiple of the critical value (0: off) ...
   double fast_confirm_time = 1.0;   ///< ... continuously for this long (s) raises before confirm_revolutions
   // Steep-surface gate: where k_M(lambda, pitch) changes by more than gate_max_sensitivity (relative) within
@@ -140,6 +144,8 @@ class BladeLoadMonitor {
   bool learned() const;
   /// Largest |outlier t| / critical value seen per channel after learning (a healthy run's margin).
   double max_ratio(int channel) const { return max_ratio_[channel]; }
+  /// The factor a channel's t-values are divided by now (>= 1; noise_revolutions).
+  double noise_scale(int channel) const { return noise_scale_[channel]; }
   /// The class raised on a blade ("" when none).
   const std::string& raised(int blade) const { return blades_[blade].raised; }
   int adaptations() const { return adaptations_; }
@@ -209,6 +215,12 @@ class BladeLoadMonitor {
   std::array<double, kChannels> max_ratio_{};
   double crit_[kChannels] = {};
   double witness_crit_ = 0.0, drift_crit_[kChannels] = {};
+  // Each residual's present noise level (mean square of the closest pair of blades' t difference over
+  // noise_revolutions) and the factor >= 1 its t-values are divided by.
+  std::array<double, kChannels> noise_ms_{-1, -1, -1, -1, -1};
+  std::array<double, kChannels> noise_scale_{1, 1, 1, 1, 1};
+  double channel_t(int blade, int channel, double x) const;
+  void update_noise(const std::array<std::array<double, kChannels>, 3>& x);
   double rev_time_ = 0.0, last_rev_t_ = -1.0;
   // Adaptation accumulators.
   int adapt_n_ = 0;

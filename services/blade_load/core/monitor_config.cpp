@@ -38,6 +38,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "confirm_time",
                         "confirm_revolutions",
                         "onset_ratio",
+                        "noise_revolutions",
                         "fast_ratio",
                         "fast_confirm_time",
                         "gate_pitch_margin",
@@ -98,6 +99,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   c.confirm_time = y.get_number("confirm_time", c.confirm_time, 0.1, 600.0);
   c.confirm_revolutions = y.get_number("confirm_revolutions", c.confirm_revolutions, 0.0, 20.0);
   c.onset_ratio = y.get_number("onset_ratio", c.onset_ratio, 0.1, 1.0);
+  c.noise_revolutions = y.get_number("noise_revolutions", c.noise_revolutions, 0.0, 1000.0);
   c.fast_ratio = y.get_number("fast_ratio", c.fast_ratio, 0.0, 100.0);
   if (c.fast_ratio > 0 && c.fast_ratio < 1.0) throw y.error("fast_ratio", "must be 0 (off) or >= 1");
   c.fast_confirm_time = y.get_number("fast_confirm_time", c.fast_confirm_time, 0.1, 600.0);
