@@ -81,7 +81,11 @@ Identifier::Identifier(const IdentifierConfig& config) : cfg_(config) {
 }
 
 void Identifier::reset() {
+  forget();
   started_ = false;  // level removal starts again from the next sample
+}
+
+void Identifier::forget() {
   theta_ = theta0_;
   theta_sim_ = theta0_;
   eta_ = Eigen::Vector2d(cfg_.omega_n0, cfg_.zeta0);

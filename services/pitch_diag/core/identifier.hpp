@@ -66,6 +66,9 @@ class Identifier {
   void restart();
   /// Back to the initial model as well.
   void reset();
+  /// Back to the initial model and no evidence, the level-removal filters continuing (a hold: what was
+  /// learned before or around a suspect input says nothing about the actuator after it).
+  void forget();
 
   /// Current estimate (for the bank: the refined best model, computed on demand).
   Theta theta() const;

@@ -87,10 +87,10 @@ class BladeDiagnoser {
   /// One valid sample (u reference, y measured pitch, deg).
   void update(double u, double y) { id_.update(u, y); }
   void restart() { id_.restart(); }
-  /// Held (suspect input, start-up, a context transient): nothing identified, and a class in confirmation
-  /// starts again afterwards. A raised fault stays raised.
+  /// Held (suspect input, start-up, a context transient): nothing identified, and identification and a class
+  /// in confirmation start again afterwards from the healthy model. A raised fault stays raised.
   void hold() {
-    id_.restart();
+    id_.forget();
     candidate_ = "none";
     pending_ = 0.0;
   }
