@@ -8,6 +8,7 @@
 namespace windfdi::ice_detect {
 
 DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& turbine) {
+  // clang-format off
   s.require_known_keys({"window",
                         "reinit_period",
                         "filter_time",
@@ -21,6 +22,8 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
                         "warning_mass",
                         "fault_mass",
                         "critical_mass",
+                        "critical_margin",
+                        "critical_confirm_time",
                         "confirm_time",
                         "clear_time",
                         "clear_ratio",
@@ -42,6 +45,7 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
                         "power_step",
                         "shed_power_step",
                         "turbine_file"});
+  // clang-format on
   DetectorConfig c;
   c.ice_radius = turbine.ice_radius;
   c.ice_cp_loss = turbine.ice_cp_loss;
@@ -69,6 +73,8 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
   c.warning_mass = s.get_number("warning_mass", c.warning_mass, 0.0, 1e6);
   c.fault_mass = s.get_number("fault_mass", c.fault_mass, c.warning_mass, 1e6);
   c.critical_mass = s.get_number("critical_mass", c.critical_mass, c.fault_mass, 1e6);
+  c.critical_margin = s.get_number("critical_margin", c.critical_margin, 0.0, 2.0);
+  c.critical_confirm_time = s.get_number("critical_confirm_time", c.critical_confirm_time, 0.0, 3600.0);
   c.confirm_time = s.get_number("confirm_time", c.confirm_time, 0.0, 3600.0);
   c.clear_time = s.get_number("clear_time", c.clear_time, 0.0, 3600.0);
   c.clear_ratio = s.get_number("clear_ratio", c.clear_ratio, 0.0, 1.0);
@@ -181,7 +187,8 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   // estimates stay out of the median until a whole window of fresh data is in. The median of the estimates from
   // before is judged as before (a sample gap near the end of an accretion once hid it for good).
   const bool young = t - resumed_at_ < cfg_.estimator.window;
-  if (!young && estimator_.excited() && estimator_.inertia() > 0.0 && !estimator_.power_unsettled()) {
+  fresh_ = !young && estimator_.excited() && estimator_.inertia() > 0.0 && !estimator_.power_unsettled();
+  if (fresh_) {
     recent_.push_back(estimator_.inertia());
     while (recent_.size() > static_cast<std::size_t>(cfg_.median_estimates)) recent_.pop_front();
   }
@@ -257,7 +264,8 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
 
 void IceDetector::level_events(double t, std::vector<FaultEvent>& events) {
   const double m = out_.ice_mass;
-  const double thresholds[] = {cfg_.warning_mass, cfg_.fault_mass, cfg_.critical_mass};
+  const double thresholds[] = {cfg_.warning_mass, cfg_.fault_mass,
+                               cfg_.critical_mass * (1.0 + cfg_.critical_margin)};
   int level = 0;
   for (int i = 0; i < 3; ++i)
     if (m >= thresholds[i]) level = i + 1;
@@ -272,13 +280,19 @@ void IceDetector::level_events(double t, std::vector<FaultEvent>& events) {
                std::to_string(static_cast<int>(j0_)) + ": about " + std::to_string(static_cast<int>(m)) + " kg of ice";
     events.push_back(e);
   };
-  // Raise (or raise further) once the mass has stayed above the raised level for confirm_time.
+  // Raise (or raise further) once the mass has stayed above the raised level for confirm_time. The stop level
+  // also needs critical_confirm_time of FRESH estimates above it: a median held through a calm spell is not
+  // more evidence (measured, 9.8 m/s, TI 0.06: 30 s of excitation after 400 s without moved the median from 0
+  // to 5061 kg for 4000 kg of ice, held unchanged, and stopped the turbine 10 s later).
+  if (level == 3 && fresh_) critical_evidence_ += 1.0;
+  if (level < 3) critical_evidence_ = 0.0;
   if (level > raised_level_) {
     if (above_since_ < 0.0) above_since_ = t;
-    if (t - above_since_ >= cfg_.confirm_time) {
-      raised_level_ = level;
-      event(true, level);
-      above_since_ = -1.0;
+    const int reach = level == 3 && critical_evidence_ < cfg_.critical_confirm_time ? 2 : level;
+    if (t - above_since_ >= cfg_.confirm_time && reach > raised_level_) {
+      raised_level_ = reach;
+      event(true, reach);
+      if (reach == level) above_since_ = -1.0;
     }
     below_since_ = -1.0;
     return;

@@ -25,6 +25,10 @@ struct DetectorConfig {
   double warning_mass = 1700.0;     ///< kg of ice for an ice_accretion warning (5 % of J0 is about 1830 kg)
   double fault_mass = 2500.0;       ///< kg for severity fault
   double critical_mass = 4500.0;    ///< kg for severity critical (the arbiter stops the turbine)
+  double critical_margin = 0.2;     ///< the stop level needs an estimate this share above critical_mass: the
+                                 ///< estimate's error (1-4 % of inertia, 370-1460 kg) must not stop a rotor
+                                 ///< carrying less than critical_mass
+  double critical_confirm_time = 60.0;  ///< s of fresh (excited) estimates above it before critical is raised
   double confirm_time = 10.0;       ///< s a level must hold before it is raised
   double clear_time = 30.0;         ///< s below the clear level before a raised level clears
   double clear_ratio = 0.7;         ///< a level clears below this share of its threshold (hysteresis)
@@ -97,6 +101,8 @@ class IceDetector {
   // Accretion: the raised severity level (0 none, 1 warning, 2 fault, 3 critical) and its timers.
   int raised_level_ = 0;
   double above_since_ = -1.0, below_since_ = -1.0;
+  double critical_evidence_ = 0.0;  // s of fresh estimates above the stop level in the current run
+  bool fresh_ = false;              // this second's estimate entered the median
   double shed_raised_at_ = -1.0;
   uint64_t power_changes_seen_ = 0;
   double shed_last_ = -1.0;

@@ -265,6 +265,31 @@ TEST(IceDetector, FastAccretionDoesNotOvershootIntoCritical) {
   }
 }
 
+TEST(IceDetector, OnlyStrongSettledEvidenceRaisesTheStopLevel) {
+  const DetectorConfig cfg = load_detector_config(defaults(), TurbineParams{});
+  auto first = [](const PlantRun& r, const std::string& severity) -> const FaultEvent* {
+    for (const auto& e : r.events)
+      if (e.fault == "ice_accretion" && e.raised && e.severity == severity) return &e;
+    return nullptr;
+  };
+  // GIVEN a rotor carrying 4000 kg of ice, below critical_mass (4500 kg) but within the estimate's error of
+  // it
+  const auto light = run_plant(12.0, 1500, true, {}, 4000.0, 41);
+  // THEN it is reported (fault level) and never stopped
+  EXPECT_NE(first(light, "fault"), nullptr) << describe(light);
+  EXPECT_EQ(first(light, "critical"), nullptr) << describe(light);
+  // GIVEN 7500 kg, well above it
+  const auto heavy = run_plant(12.0, 1500, true, {}, 7500.0, 41);
+  // THEN the fault level comes first, and the stop level after critical_confirm_time of estimates above it
+  const FaultEvent* fault = first(heavy, "fault");
+  const FaultEvent* critical = first(heavy, "critical");
+  ASSERT_NE(fault, nullptr) << describe(heavy);
+  ASSERT_NE(critical, nullptr) << describe(heavy);
+  EXPECT_LT(fault->t, critical->t);
+  EXPECT_GE(critical->t - critical->t_detected, cfg.critical_confirm_time - 1.0) << describe(heavy);
+  EXPECT_GT(critical->size, cfg.critical_mass * (1.0 + cfg.critical_margin));
+}
+
 TEST(IceDetector, BadSamplesAreCountedAndNeverFed) {
   TurbineParams p;
   IceDetector det(load_detector_config(defaults(), p), p);
