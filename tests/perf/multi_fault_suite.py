@@ -7,8 +7,8 @@ reports per turbine-hour and by safe stops no injected fault warrants.
   multi_fault_suite.py run DIR [--mode fast|dds] [--rate R] ...   run every scenario of DIR, print the tables
   multi_fault_suite.py run FILE.yaml ...                          one scenario (benchmark.yaml works too)
 
-Modes: `fast` records the plant offline and runs the four services' cores and the arbiter in one process
-(tests/perf/system_replay: open loop, exact inter-service timing, minutes for 30 scenarios); `dds` runs the
+Modes: `fast` runs the plant, the four services' cores and the arbiter in one process (tests/perf/system_replay
+--scenario: closed loop like the DDS system, exact inter-service timing, minutes for 30 scenarios); `dds` runs the
 real system (deploy/scripts/launch_farm.sh: plant, services, arbiter and farm monitor as DDS participants on
 a private domain, closed loop) at --rate (the highest that keeps up on 2 cores: 20 for up to 4 turbines).
 Exit code 1 when --require targets are given and missed (CI runs a 3-scenario subset that way).
@@ -168,12 +168,9 @@ def dump_yaml(s):
 
 
 def run_fast(scenario, work):
-    frames = os.path.join(work, "frames.csv.gz")
-    subprocess.run([os.path.join(BIN, "windfdi-plant"), "--scenario", scenario, "--offline", "--record", frames,
-                    "--log-level", "warn"], check=True)
     history = os.path.join(work, "history.jsonl")
-    subprocess.run([find_tool("system_replay"), frames, "--history", history], check=True, capture_output=True,
-                   text=True)
+    subprocess.run([find_tool("system_replay"), "--scenario", scenario, "--history", history], check=True,
+                   capture_output=True, text=True)
     return history
 
 

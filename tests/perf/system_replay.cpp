@@ -1,8 +1,11 @@
-// The whole diagnosis of a recording in one process: the four services' cores fed sample by sample, each
-// fault event handed at once to the other services' input context and to the arbiter's decision (isolation
-// included), the history written as `windfdi-farm history --json` lines for `windfdi-farm report --history`.
-// Open loop (the arbiter's configurations do not reach the recorded plant): a fast way to tune and judge
-// the services together; the DDS system itself is judged by multi_fault_suite.sh.
+// The whole diagnosis in one process: the four services' cores fed sample by sample, each fault event handed
+// at once to the other services' input context and to the arbiter's decision (isolation included), the
+// history written as `windfdi-farm history --json` lines for `windfdi-farm report --history`. On a recording
+// it is open loop (the arbiter's configurations do not reach the recorded plant); with --scenario the plant
+// runs here and follows the arbiter as windfdi-plant does (mode, IPC source, pitch rate limits, the corrected
+// generator speed, the ice-adapted inertia): without that a stuck generator-speed reading stalls the rotor
+// and hides every later fault. A fast way to tune and judge the services together; the DDS system is judged
+// by multi_fault_suite.py.
 #include <CLI/CLI.hpp>
 #include <fstream>
 #include <iostream>
@@ -17,7 +20,9 @@
 #include "input_context.hpp"
 #include "pitch_service.hpp"
 #include "replay.hpp"
+#include "scenario.hpp"
 #include "sensor_bias_service.hpp"
+#include "turbine_sim.hpp"
 
 using namespace windfdi;
 
@@ -35,7 +40,31 @@ struct Turbine {
   arbiter::Configuration last;
   bool have_last = false;
   double next_evaluation = 0.0;
+  double corrected_generator_speed = kNaN;  // rad/s, sensor_bias's latest estimate
+  double corrected_at = -1e300;
 };
+
+/// What windfdi-plant does with a configuration (plant_node.cpp's to_input), for the closed loop.
+plant::ControlInput control_input(const Turbine& t, double now) {
+  plant::ControlInput in;
+  if (!t.have_last) return in;
+  const auto& c = t.last;
+  in.mode = static_cast<plant::OperatingMode>(static_cast<int>(c.mode));
+  in.ipc_source = static_cast<plant::IpcSource>(static_cast<int>(c.ipc_source));
+  in.pitch_rate_limit = c.pitch_rate_limit;
+  in.use_corrected_generator_speed = c.use_corrected_generator_speed;
+  in.inertia = c.inertia;
+  if (c.ice_mode == arbiter::IceMode::kStop) in.mode = plant::OperatingMode::kSafeStop;
+  // Corrected measurements only while they are fresh, as in the plant.
+  in.corrected_generator_speed = now - t.corrected_at < 1.0 ? t.corrected_generator_speed : kNaN;
+  return in;
+}
+
+int column_of(const ServiceSpec& spec, const std::string& name) {
+  for (std::size_t i = 0; i < spec.estimate_columns.size(); ++i)
+    if (spec.estimate_columns[i] == name) return static_cast<int>(i);
+  throw ConfigError(spec.name, 0, name, "no such estimate column");
+}
 
 nlohmann::json config_json(const arbiter::Configuration& c, const std::string& id, double t) {
   nlohmann::json reasons = nlohmann::json::array();
@@ -54,8 +83,10 @@ nlohmann::json config_json(const arbiter::Configuration& c, const std::string& i
 
 int main(int argc, char** argv) {
   CLI::App app{"The four services and the arbiter on one recording, in one process (open loop)"};
-  std::string frames, history_file, config_dir = deploy_dir() + "/config";
-  app.add_option("frames", frames, "recording (windfdi-plant --record)")->required();
+  std::string frames, scenario_file, history_file, config_dir = deploy_dir() + "/config";
+  auto* frames_option = app.add_option("frames", frames, "recording (windfdi-plant --record): open loop");
+  app.add_option("--scenario", scenario_file, "run this plant scenario here instead, closed loop")
+      ->excludes(frames_option);
   app.add_option("--history", history_file, "write the history here (JSON Lines)")->required();
   app.add_option("--config-dir", config_dir, "service configurations (<service>.yaml)");
   CLI11_PARSE(app, argc, argv);
@@ -77,51 +108,87 @@ int main(int argc, char** argv) {
     };
     uint64_t events = 0;
     std::vector<FaultEvent> produced;
-    ReplayOptions options;
-    options.frames = frames;
-    const auto stats =
-        run_replay(options, {}, [&](const std::string& id, const FrameSample& s, bool gap, ReplaySink&) {
-          auto [tit, fresh] =
-              turbines.try_emplace(id, Turbine{arbiter::Arbiter(arbiter_config), {}, false, s.t});
-          Turbine& turbine = tit->second;
-          produced.clear();
-          bool ok = true;
-          for (auto& svc : services) {
-            auto& d = svc.turbines[id];
-            if (!d) d = svc.spec.make(id);
-            const InputContext& c = svc.contexts.try_emplace(id, svc.spec.name).first->second.context();
-            if (!(svc.given[id] == c)) {
-              svc.given[id] = c;
-              d->set_context(c, s.t);
-            }
-            std::vector<FaultEvent> ev;
-            ok &= d->update(s, gap, ev);
-            std::vector<std::string> values;
-            d->estimate_due(values);
-            for (auto& e : ev) {
-              e.turbine_id = id;
-              e.source = svc.spec.name;
-              produced.push_back(e);
-            }
+    const int bias_corrected = column_of(services[1].spec, "corrected_generator_speed");
+    const int ice_inertia = column_of(services[3].spec, "inertia");
+    auto process = [&](const std::string& id, const FrameSample& s, bool gap) {
+      auto [tit, fresh] = turbines.try_emplace(id, Turbine{arbiter::Arbiter(arbiter_config), {}, false, s.t});
+      Turbine& turbine = tit->second;
+      produced.clear();
+      bool ok = true;
+      for (std::size_t k = 0; k < services.size(); ++k) {
+        Service& svc = services[k];
+        auto& d = svc.turbines[id];
+        if (!d) d = svc.spec.make(id);
+        const InputContext& c = svc.contexts.try_emplace(id, svc.spec.name).first->second.context();
+        if (!(svc.given[id] == c)) {
+          svc.given[id] = c;
+          d->set_context(c, s.t);
+        }
+        std::vector<FaultEvent> ev;
+        ok &= d->update(s, gap, ev);
+        std::vector<std::string> values;
+        if (d->estimate_due(values)) {
+          if (k == 1) {
+            turbine.corrected_generator_speed =
+                std::stod(values.at(static_cast<std::size_t>(bias_corrected)));
+            turbine.corrected_at = s.t;
+          } else if (k == 3) {
+            const double inertia = std::stod(values.at(static_cast<std::size_t>(ice_inertia)));
+            if (std::isfinite(inertia) && inertia > 0) turbine.arbiter.on_inertia(inertia);
           }
-          for (const auto& e : produced) {
-            ++events;
-            write("fault", s.t, to_json(e));
-            for (auto& svc : services) svc.contexts.try_emplace(id, svc.spec.name).first->second.on_fault(e);
-            turbine.arbiter.on_fault(e, s.t);
-          }
-          if (s.t >= turbine.next_evaluation) {
-            turbine.next_evaluation = s.t + 0.1;
-            const auto c = turbine.arbiter.evaluate(s.t);
-            if (!turbine.have_last || c != turbine.last) {
-              write("config", s.t, config_json(c, id, s.t));
-              turbine.last = c;
-              turbine.have_last = true;
-            }
-          }
-          return ok;
-        });
-    std::cerr << "system_replay: " << stats.samples << " samples, " << events << " fault events\n";
+        }
+        for (auto& e : ev) {
+          e.turbine_id = id;
+          e.source = svc.spec.name;
+          produced.push_back(e);
+        }
+      }
+      for (const auto& e : produced) {
+        ++events;
+        write("fault", s.t, to_json(e));
+        for (auto& svc : services) svc.contexts.try_emplace(id, svc.spec.name).first->second.on_fault(e);
+        turbine.arbiter.on_fault(e, s.t);
+      }
+      if (s.t >= turbine.next_evaluation) {
+        turbine.next_evaluation = s.t + 0.1;
+        const auto c = turbine.arbiter.evaluate(s.t);
+        if (!turbine.have_last || c != turbine.last) {
+          write("config", s.t, config_json(c, id, s.t));
+          turbine.last = c;
+          turbine.have_last = true;
+        }
+      }
+      return ok;
+    };
+    uint64_t samples = 0;
+    if (!scenario_file.empty()) {
+      const plant::Scenario sc = plant::load_scenario(scenario_file, deploy_dir());
+      std::vector<std::unique_ptr<plant::TurbineSim>> sims;
+      for (const auto& t : sc.turbines)
+        sims.push_back(
+            std::make_unique<plant::TurbineSim>(sc.turbine, t, sc.faults_of(t.id), sc.seed, sc.sample_rate));
+      const auto n = static_cast<uint64_t>(std::llround(sc.duration * sc.sample_rate));
+      for (uint64_t k = 0; k < n; ++k)
+        for (auto& sim : sims) {
+          auto it = turbines.find(sim->id());
+          const plant::ControlInput in =
+              it == turbines.end() ? plant::ControlInput{} : control_input(it->second, sim->time());
+          FrameSample s = sim->step(in);
+          s.aero_torque = s.aero_power =
+              kNaN;  // not measured on a real turbine (windfdi-plant without truth)
+          process(sim->id(), s, false);
+          ++samples;
+        }
+    } else {
+      if (frames.empty()) throw ConfigError("system_replay", 0, "frames", "give a recording or --scenario");
+      ReplayOptions options;
+      options.frames = frames;
+      samples =
+          run_replay(options, {}, [&](const std::string& id, const FrameSample& s, bool gap, ReplaySink&) {
+            return process(id, s, gap);
+          }).samples;
+    }
+    std::cerr << "system_replay: " << samples << " samples, " << events << " fault events\n";
   } catch (const ConfigError& e) {
     std::cerr << "system_replay: " << e.what() << "\n";
     return 2;
