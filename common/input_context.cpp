@@ -21,6 +21,7 @@ void InputContextTracker::rebuild() {
   InputContext c;
   c.transitions = context_.transitions;
   c.turbine_stopped = context_.turbine_stopped;
+  c.pitch_rate_limit = context_.pitch_rate_limit;
   for (const auto& [key, raised] : raised_) {
     if (!raised) continue;
     const auto a = key.find('/'), b = key.find('/', a + 1);

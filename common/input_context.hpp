@@ -20,6 +20,9 @@ struct InputContext {
   std::array<bool, 3> pitch_sensor_suspect{};    ///< measured pitch of blade i
   std::array<bool, 3> pitch_actuator_suspect{};  ///< the actuator of blade i (its measured pitch is true)
   bool turbine_stopped = false;  ///< the arbiter holds the turbine in safe stop: its actuators are parked at feather
+  /// deg/s, the pitch rate limit the arbiter commands per blade (infinite: none seen)
+  std::array<double, 3> pitch_rate_limit{kNoLimit, kNoLimit, kNoLimit};
+  static constexpr double kNoLimit = 1e300;
   /// Counts the changes a transient follows: a suspect set that changed (the controller may switch to a
   /// corrected measurement) or a new control configuration from the arbiter.
   uint64_t transitions = 0;
@@ -30,7 +33,7 @@ struct InputContext {
            generator_speed_suspect == o.generator_speed_suspect &&
            pitch_sensor_suspect == o.pitch_sensor_suspect &&
            pitch_actuator_suspect == o.pitch_actuator_suspect && turbine_stopped == o.turbine_stopped &&
-           transitions == o.transitions;
+           pitch_rate_limit == o.pitch_rate_limit && transitions == o.transitions;
   }
 };
 
@@ -43,9 +46,12 @@ class InputContextTracker {
   bool on_fault(const FaultEvent& e);
   /// The arbiter published a configuration that differs from the last one (new control content); `stopped`:
   /// its mode is safe stop.
-  void on_reconfiguration(bool stopped = false) {
+  void on_reconfiguration(bool stopped = false,
+                          const std::array<double, 3>& pitch_rate_limit = {
+                              InputContext::kNoLimit, InputContext::kNoLimit, InputContext::kNoLimit}) {
     ++context_.transitions;
     context_.turbine_stopped = stopped;
+    context_.pitch_rate_limit = pitch_rate_limit;
   }
   const InputContext& context() const { return context_; }
 

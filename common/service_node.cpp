@@ -43,9 +43,11 @@ void DiagnosticNode::take_context() {
       content += "/" + std::to_string(c.use_corrected_pitch()[i]) + std::to_string(c.pitch_rate_limit()[i]);
     auto& last = last_control_[c.turbine_id()];
     const bool stopped = c.mode() == windfdi::MODE_SAFE_STOP;
+    const std::array<double, 3> rates{c.pitch_rate_limit()[0], c.pitch_rate_limit()[1],
+                                      c.pitch_rate_limit()[2]};
     // Also the first configuration seen (a service restarted on a stopped or derated turbine).
     if (last != content)
-      contexts_.try_emplace(c.turbine_id(), service_).first->second.on_reconfiguration(stopped);
+      contexts_.try_emplace(c.turbine_id(), service_).first->second.on_reconfiguration(stopped, rates);
     last = content;
   }
 }

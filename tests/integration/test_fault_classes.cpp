@@ -259,21 +259,17 @@ TEST(RestartedService, ARestartOnARunningTurbineRaisesNothingAndTheRealFaultIsFo
       farm.env, "pitch_diag_restarted");
   ASSERT_EQ(plant.wait(std::chrono::seconds(120)), 0) << plant.stderr_text();
   std::this_thread::sleep_for(std::chrono::seconds(3));
-  // THEN no leak and nothing above warning severity was raised on the healthy actuators, the leak on blade 3
-  // was, and only after its onset. (Known defect, in pitch_diag's README: while the arbiter's lost-service
-  // fallback still derates every blade to 5 deg/s after the restart, a healthy rate-limited blade can be read
-  // as a pump-wear warning, which only derates it.)
+  // THEN nothing was raised on the healthy actuators (also while the arbiter's lost-service fallback still
+  // derates every blade to 5 deg/s after the restart: the bank's models saturate at the commanded rate), and
+  // the leak on blade 3 was, only after its onset
   bool leak = false;
   for (const auto& r : farm.history()) {
     if (r["kind"] != "fault" || r["data"]["state"] != "raised") continue;
     const auto& d = r["data"];
-    if (d["component"] == "pitch_actuator_3" && d["fault"] == "hydraulic_leakage") {
-      leak = true;
-      EXPECT_GE(d["t_detected"].get<double>(), 150.0) << d.dump();
-    } else if (d["fault"] == "hydraulic_leakage" || d["severity"] != "warning") {
-      ADD_FAILURE() << "raised: " << d.dump();
+    if (d["component"] == "pitch_actuator_3" && d["t_detected"].get<double>() >= 150.0) {
+      leak |= d["fault"] == "hydraulic_leakage";
     } else {
-      std::cout << "[ measured ] warning on a healthy actuator after the restart: " << d.dump() << "\n";
+      ADD_FAILURE() << "raised: " << d.dump();
     }
   }
   EXPECT_TRUE(leak) << diag->stderr_text();

@@ -60,6 +60,14 @@ plant::ControlInput control_input(const Turbine& t, double now) {
   return in;
 }
 
+/// The control content of a configuration (what DiagnosticNode compares; new reasons alone move nothing).
+bool same_control(const arbiter::Configuration& a, const arbiter::Configuration& b) {
+  return a.mode == b.mode && a.ipc_source == b.ipc_source &&
+         a.use_corrected_rotor_speed == b.use_corrected_rotor_speed &&
+         a.use_corrected_generator_speed == b.use_corrected_generator_speed && a.ice_mode == b.ice_mode &&
+         a.use_corrected_pitch == b.use_corrected_pitch && a.pitch_rate_limit == b.pitch_rate_limit;
+}
+
 int column_of(const ServiceSpec& spec, const std::string& name) {
   for (std::size_t i = 0; i < spec.estimate_columns.size(); ++i)
     if (spec.estimate_columns[i] == name) return static_cast<int>(i);
@@ -153,6 +161,11 @@ int main(int argc, char** argv) {
         turbine.next_evaluation = s.t + 0.1;
         const auto c = turbine.arbiter.evaluate(s.t);
         if (!turbine.have_last || c != turbine.last) {
+          // Every service's input context follows the arbiter's reconfigurations, as DiagnosticNode's does.
+          if (!turbine.have_last || !same_control(c, turbine.last))
+            for (auto& svc : services)
+              svc.contexts.try_emplace(id, svc.spec.name)
+                  .first->second.on_reconfiguration(c.mode == arbiter::Mode::kSafeStop, c.pitch_rate_limit);
           write("config", s.t, config_json(c, id, s.t));
           turbine.last = c;
           turbine.have_last = true;

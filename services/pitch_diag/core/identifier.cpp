@@ -266,7 +266,17 @@ void Identifier::bank_step(double yf, bool learn) {
   // Every model of the bank simulated from the reference; residual variance with forgetting. Without the eq
   // 20 gate a sample that does not move the pitch adds the same residual to every model, so it changes no
   // decision; it only lets the old evidence fade, which evidence() sees.
-  const Eigen::ArrayXd x = -ba1_ * bx1_ - ba2_ * bx2_ + bb1_ * u1_ + bb2_ * u2_;
+  Eigen::ArrayXd x = -ba1_ * bx1_ - ba2_ * bx2_ + bb1_ * u1_ + bb2_ * u2_;
+  // The valve saturates at the commanded rate (the plant: the angle moves at the limit). Without it a healthy
+  // blade derated to 5 deg/s in turbulence read as hydraulic_leakage and stopped the turbine (multi-fault
+  // suite), and a raised fault on a derated blade never saw the healthy model fit again to clear.
+  // The limit is on the raw pitch; the bank runs on the level-removed signals, whose step is
+  // c (y(t) - y(t-1)) + (c - 1) y_f(t-1) (the 0.02 Hz high-pass: 0.6 deg/s at 5 deg off the level).
+  if (std::isfinite(rate_step_)) {
+    const double c = c_hp_ > 0.0 ? c_hp_ : 1.0;
+    const Eigen::ArrayXd drift = (c - 1.0) * bx1_;
+    x = x.max(bx1_ + drift - c * rate_step_).min(bx1_ + drift + c * rate_step_);
+  }
   if (learn) {
     bV_ = cfg_.bank_lambda * bV_ + (yf - x).square();
     bW_ = cfg_.bank_lambda * bW_ + 1.0;

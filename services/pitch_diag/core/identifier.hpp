@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -70,6 +71,10 @@ class Identifier {
   /// learned before or around a suspect input says nothing about the actuator after it).
   void forget();
 
+  /// The pitch rate limit the actuator works under (deg/s; the arbiter's derate). The bank's models saturate
+  /// at it as the valve does, so a healthy derated actuator still fits the healthy model. Infinite: none.
+  void set_rate_limit(double deg_per_s) { rate_step_ = deg_per_s * cfg_.T; }
+
   /// Current estimate (for the bank: the refined best model, computed on demand).
   Theta theta() const;
   ContinuousModel model() const { return continuous_from_theta(theta(), cfg_.T); }
@@ -99,6 +104,7 @@ class Identifier {
   int settle_samples_;
   // Filters and regressor history (after level removal).
   bool started_ = false;
+  double rate_step_ = std::numeric_limits<double>::infinity();  // deg per sample the bank's models may move
   bool reseat_ = true;  // the next sample restarts the regressor history (level filters continue)
   double u_raw1_ = 0.0, y_raw1_ = 0.0, uf_ = 0.0, yf_ = 0.0;
   double u1_ = 0.0, u2_ = 0.0, u3_ = 0.0, u4_ = 0.0;  // u_f(t-1..t-4)

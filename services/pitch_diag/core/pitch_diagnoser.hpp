@@ -86,6 +86,7 @@ class BladeDiagnoser {
   BladeDiagnoser(const PitchDiagConfig& config, int blade);
   /// One valid sample (u reference, y measured pitch, deg).
   void update(double u, double y) { id_.update(u, y); }
+  void set_rate_limit(double deg_per_s) { id_.set_rate_limit(deg_per_s); }
   void restart() { id_.restart(); }
   /// Held (suspect input, start-up, a context transient): nothing identified, and identification and a class
   /// in confirmation start again afterwards from the healthy model. A raised fault stays raised.

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "input_context.hpp"
 #include "pitch_service.hpp"
 #include "turbine_sim.hpp"
 
@@ -20,7 +21,8 @@ struct PlantRun {
   PitchEstimate last;
 };
 
-PlantRun run_plant(double wind, double seconds, const std::vector<plant::FaultSpec>& faults, uint64_t seed) {
+PlantRun run_plant(double wind, double seconds, const std::vector<plant::FaultSpec>& faults, uint64_t seed,
+                   double derated_rate = 0.0, bool tell_diagnoser = true) {
   plant::TurbineScenario t;
   t.id = "WT01";
   t.wind.mean = wind;
@@ -28,12 +30,21 @@ PlantRun run_plant(double wind, double seconds, const std::vector<plant::FaultSp
   t.wind.shear_variation = 0.03;
   plant::TurbineSim sim(TurbineParams{}, t, faults, seed, 100.0);
   PitchDiagnoser diag{PitchDiagConfig{}};
+  plant::ControlInput in;
+  if (derated_rate > 0.0) {
+    // Every blade derated from the start (the arbiter's fallback when pitch_diag is lost), as the input
+    // context carries it from wt/control/config.
+    in.pitch_rate_limit = {derated_rate, derated_rate, derated_rate};
+    InputContextTracker tracker("pitch_diag");
+    if (tell_diagnoser) tracker.on_reconfiguration(false, in.pitch_rate_limit);
+    diag.set_context(tracker.context(), -100.0);
+  }
   PlantRun r;
   std::vector<PitchEvent> ev;
   const auto n = static_cast<long>(seconds * 100.0);
   for (long k = 0; k < n; ++k) {
     ev.clear();
-    diag.update(sim.step(), ev);
+    diag.update(sim.step(in), ev);
     r.events.insert(r.events.end(), ev.begin(), ev.end());
     diag.estimate_due(r.last);
   }
@@ -125,6 +136,33 @@ TEST(PitchDiagPlant, ASafeStopIsNotALeak) {
   for (int b = 0; b < 3; ++b) EXPECT_GT(diag.saturated(b), 500u) << b;
   EXPECT_TRUE(events.empty()) << events.front().component << " " << events.front().fault << " at "
                               << events.front().t;
+}
+
+TEST(PitchDiagPlant, ADeratedActuatorIsJudgedWithItsRateLimit) {
+  // GIVEN every blade derated to 5 deg/s (the arbiter's fallback when pitch_diag is lost) at 16 and 20 m/s in
+  // 12 % turbulence, where the valves saturate often: 10 minutes on each of 4 seeds
+  int told = 0, blind = 0;
+  for (double wind : {16.0, 20.0})
+    for (uint64_t seed = 80; seed < 84; ++seed) {
+      for (const auto& e : run_plant(wind, 600.0, {}, seed, 5.0).events) told += e.raised;
+      for (const auto& e : run_plant(wind, 600.0, {}, seed, 5.0, false).events) blind += e.raised;
+    }
+  // THEN with the commanded limit known (the bank's models saturate at it) false reports are a small fraction
+  // of those of the linear models alone (measured: 8 vs 86; the bank's direct-form models only approximate a
+  // saturating valve, see the README)
+  std::cout << "[ measured ] derated healthy blades, 80 min: " << told << " reports with the limit, " << blind
+            << " without\n";
+  EXPECT_LE(4 * told, blind);
+  // AND a leak on a derated blade is still found as a leak
+  for (double wind : {16.0, 20.0}) {
+    const auto leak = run_plant(wind, 160.0, {actuator_fault(2, "hydraulic_leakage", 100.0)}, 72, 5.0);
+    const PitchEvent* first = nullptr;
+    for (const auto& e : leak.events)
+      if (e.raised && e.t > 100.0 && !first) first = &e;
+    ASSERT_NE(first, nullptr) << wind;
+    EXPECT_EQ(first->component, "pitch_actuator_3") << wind;
+    EXPECT_EQ(first->fault, "hydraulic_leakage") << wind;
+  }
 }
 
 TEST(PitchDiagPlant, BurstsOfLostSamplesRaiseNothing) {
