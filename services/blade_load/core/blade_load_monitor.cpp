@@ -307,27 +307,33 @@ void BladeLoadMonitor::update_noise(const std::array<std::array<double, kChannel
   // A residual's spread is not stationary: it follows how far the beams' wind is from the rotor's and how
   // differently the three blades sample the turbulence (low wind, where the mean load is small, TI 0.155:
   // one-revolution values three times the spread learned at start-up for minutes, and four false reports in
-  // 2000 s). The present level is read from the CLOSEST PAIR of blades (|t_i - t_j|): a failed gauge is one
-  // blade and moves both pairs it is in, never the third. The t-values are divided by that level only when it
-  // is above the learned one, so calm weather keeps the test's full power.
-  // sqrt(E[min pair (t_i - t_j)^2]) for healthy t: iid standard normal per blade (the LIDAR residual), or a
-  // blade's value minus the mean of the other two, normalised (the cross-blade channels).
+  // 2000 s).
+  std::array<std::array<double, kChannels>, 3> t;
+  for (int b = 0; b < 3; ++b)
+    for (int c = 0; c < kChannels; ++c)
+      t[b][c] = healthy_[b][c].learned && std::isfinite(x[b][c]) ? healthy_[b][c].outlier_t(x[b][c]) : kNaN;
+  follow_noise(t, noise_ms_, noise_scale_);
+}
+
+void BladeLoadMonitor::follow_noise(const std::array<std::array<double, kChannels>, 3>& t,
+                                    std::array<double, kChannels>& mean_square,
+                                    std::array<double, kChannels>& scale) const {
+  // The present level is read from the CLOSEST PAIR of blades (|t_i - t_j|): a failed gauge is one blade and
+  // moves both pairs it is in, never the third. The t-values are divided by that level only when it is above
+  // the healthy one, so calm weather keeps the test's full power. sqrt(E[min pair (t_i - t_j)^2]) for healthy
+  // t: iid standard normal per blade (the LIDAR residual), or a blade's value minus the mean of the other
+  // two, normalised (the cross-blade channels).
   constexpr double kClosestPairRms[kChannels] = {0.588, 0.721, 0.721, 0.721, 0.721};
   if (cfg_.noise_revolutions <= 0) return;
   for (int c = 0; c < kChannels; ++c) {
     if (c == kWitnessChannel) continue;  // it only confirms the LIDAR residual
-    std::array<double, 3> t{};
-    bool ok = true;
-    for (int b = 0; b < 3 && ok; ++b) {
-      ok = healthy_[b][c].learned && std::isfinite(x[b][c]);
-      if (ok) t[b] = healthy_[b][c].outlier_t(x[b][c]);
-    }
-    if (!ok) continue;
-    const double pair = std::min({std::fabs(t[0] - t[1]), std::fabs(t[0] - t[2]), std::fabs(t[1] - t[2])});
+    if (!(std::isfinite(t[0][c]) && std::isfinite(t[1][c]) && std::isfinite(t[2][c]))) continue;
+    const double pair =
+        std::min({std::fabs(t[0][c] - t[1][c]), std::fabs(t[0][c] - t[2][c]), std::fabs(t[1][c] - t[2][c])});
     const double ref = kClosestPairRms[c] * kClosestPairRms[c];
-    if (noise_ms_[c] < 0) noise_ms_[c] = ref;
-    noise_ms_[c] += (pair * pair - noise_ms_[c]) / cfg_.noise_revolutions;
-    noise_scale_[c] = std::max(1.0, std::sqrt(noise_ms_[c] / ref));
+    if (mean_square[c] < 0) mean_square[c] = ref;
+    mean_square[c] += (pair * pair - mean_square[c]) / cfg_.noise_revolutions;
+    scale[c] = std::max(1.0, std::sqrt(mean_square[c] / ref));
   }
 }
 
@@ -386,11 +392,16 @@ void BladeLoadMonitor::revolution(double t, std::vector<FaultEvent>& events) {
         if (std::isfinite(v)) sum += v, ++m;
       }
       if (2 * m >= W && m >= 2) {
-        dt[b][c] = healthy_[b][c].drift_t(sum / m, m) / noise_scale_[c];
+        dt[b][c] = healthy_[b][c].drift_t(sum / m, m);
         wm[b][c] = sum / m - healthy_[b][c].mean;
       }
     }
   }
+  // The window means' own noise level (faster turbulence raises the one-revolution spread more than a
+  // 10-revolution mean's: scaling the drift test by the former missed half the drifts of the suite).
+  follow_noise(dt, drift_noise_ms_, drift_noise_scale_);
+  for (int b = 0; b < 3; ++b)
+    for (int c = 0; c < kChannels; ++c) dt[b][c] /= drift_noise_scale_[c];
   for (int b = 0; b < 3; ++b) {
     BladeState& B = blades_[b];
     B.drift_firing = false;

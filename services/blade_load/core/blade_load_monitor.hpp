@@ -219,6 +219,10 @@ class BladeLoadMonitor {
   // noise_revolutions) and the factor >= 1 its t-values are divided by.
   std::array<double, kChannels> noise_ms_{-1, -1, -1, -1, -1};
   std::array<double, kChannels> noise_scale_{1, 1, 1, 1, 1};
+  std::array<double, kChannels> drift_noise_ms_{-1, -1, -1, -1, -1};  // the same for the drift test's t
+  std::array<double, kChannels> drift_noise_scale_{1, 1, 1, 1, 1};
+  void follow_noise(const std::array<std::array<double, kChannels>, 3>& t,
+                    std::array<double, kChannels>& mean_square, std::array<double, kChannels>& scale) const;
   double channel_t(int blade, int channel, double x) const;
   void update_noise(const std::array<std::array<double, kChannels>, 3>& x);
   double rev_time_ = 0.0, last_rev_t_ = -1.0;
