@@ -76,7 +76,10 @@ int blade_of(const std::string& component) {
   return (last >= '1' && last <= '3') ? last - '1' : -1;
 }
 bool starts_with(const std::string& s, const char* p) { return s.rfind(p, 0) == 0; }
-bool stop_severity(const std::string& severity) { return severity == "fault" || severity == "critical"; }
+// A leak stops the turbine only when pitch_diag calls it critical: far enough along its path that it cannot be
+// the pump wear (or a misread high air content) it shares the point alpha 0.5 with. Measured on the multi-fault
+// suite: two such flips held "fault" for the class-settle time and stopped healthy-enough turbines.
+bool stop_severity(const std::string& severity) { return severity == "critical"; }
 }  // namespace
 
 bool Arbiter::on_fault(const FaultEvent& e, double now) {
@@ -195,8 +198,8 @@ void Arbiter::apply(Cause& cause, double now, Configuration& cfg) {
     }
   } else if (starts_with(e.component, "pitch_actuator_") && blade >= 0) {
     const auto rivals = rival_classes(cause, now);
-    // A stop needs strong, settled evidence: the leak class at stop severity for stop_confirm_time, and no
-    // other class on this actuator for class_settle_time. Short of that, the reversible derate.
+    // A stop needs strong, settled evidence: the leak class at critical severity for stop_confirm_time, and
+    // no other class on this actuator for class_settle_time. Short of that, the reversible derate.
     const bool stop_class = e.fault == "hydraulic_leakage";
     if (stop_class && (cause.latched || (rivals.empty() && cause.raised && stop_severity(e.severity) &&
                                          now - cause.severity_since >= config_.stop_confirm_time))) {
@@ -237,8 +240,10 @@ void Arbiter::apply(Cause& cause, double now, Configuration& cfg) {
       reason("farm_alarm");
     }
   }
-  // Any other critical report latches once it has held for stop_confirm_time.
-  if (cause.raised && e.severity == "critical" && now - cause.severity_since >= config_.stop_confirm_time)
+  // Any other critical report latches once it has held for stop_confirm_time (an actuator's latches only with
+  // the stop it settled into, above: an uncertain critical leak stays reversible).
+  if (!starts_with(e.component, "pitch_actuator_") && cause.raised && e.severity == "critical" &&
+      now - cause.severity_since >= config_.stop_confirm_time)
     cause.latched = true;
 }
 

@@ -49,6 +49,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s) {
                         "alpha_clear",
                         "alpha_settle",
                         "fault_alpha",
+                        "critical_alpha",
                         "abrupt_time",
                         "shared_alpha",
                         "short_max_alpha",
@@ -113,6 +114,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s) {
   c.alpha_settle = s.get_number("alpha_settle", c.alpha_settle, 0.0, 2.0);
   c.alpha_clear = s.get_number("alpha_clear", c.alpha_clear, 0.0, k.alpha_detect);
   c.fault_alpha = s.get_number("fault_alpha", c.fault_alpha, 0.0, 2.0);
+  c.critical_alpha = s.get_number("critical_alpha", c.critical_alpha, c.fault_alpha, 2.0);
   c.abrupt_time = s.get_number("abrupt_time", c.abrupt_time, 0.0, 3600.0);
   c.shared_alpha = s.get_number("shared_alpha", c.shared_alpha, 0.0, 1.0);
   c.short_max_alpha = s.get_number("short_max_alpha", c.short_max_alpha, 1.0, 1.5);
@@ -218,7 +220,10 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<PitchEvent>& events) 
   } else {
     pending_ += dt;
   }
-  const std::string severity = cls_.alpha >= cfg_->fault_alpha ? "fault" : "warning";
+  // Only a leak can stop the turbine: "critical" needs it well past the point it shares with pump wear.
+  const bool leak_beyond_doubt = cls == "hydraulic_leakage" && cls_.alpha >= cfg_->critical_alpha;
+  const std::string severity = leak_beyond_doubt ? "critical" : cls_.alpha >= cfg_->fault_alpha ? "fault" : "warning";
+  auto rank = [](const std::string& sev) { return sev == "critical" ? 3 : sev == "fault" ? 2 : 1; };
   if (cls != "none" && pending_ >= cfg_->confirm_time) {
     if (raised_ != cls) {
       if (!raised_.empty()) emit(t, raised_, false, events);
@@ -226,7 +231,7 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<PitchEvent>& events) 
       raised_severity_ = severity;
       raised_detected_ = candidate_since_;
       emit(t, raised_, true, events);
-    } else if (severity == "fault" && raised_severity_ == "warning") {
+    } else if (rank(severity) > rank(raised_severity_)) {
       raised_severity_ = severity;  // the fault grew: report again with the higher severity
       emit(t, raised_, true, events);
     }

@@ -26,6 +26,9 @@ struct PitchDiagConfig {
                                  ///< (a converging estimate passing through another class is not it)
   double alpha_clear = 0.15;     ///< alpha below which a raised fault counts as gone (< alpha_detect)
   double fault_alpha = 0.6;      ///< alpha from which the severity is "fault" (below: "warning")
+  double critical_alpha = 0.85;  ///< a hydraulic leakage this far along its path is "critical" (the arbiter's
+                                 ///< stop): past the pump-wear point (leak alpha 0.5), where the two cannot be
+                                 ///< told apart, with a margin (a real leak converges to 1)
   double abrupt_time = 10.0;     ///< s of excited data; the pump-wear point reached this fast from healthy:
                                  ///< pump_wear, slower (a gradual drift along the shared path):
                                  ///< hydraulic_leakage. Held (unexcited) time does not count

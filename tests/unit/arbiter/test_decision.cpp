@@ -306,20 +306,26 @@ TEST(Proportionate, AWarningNeverStopsTheTurbine) {
   EXPECT_EQ(a.evaluate(3600.0 + ArbiterConfig{}.clear_hold).mode, Mode::kNormal);
 }
 
-TEST(Proportionate, AWarningGrowingToFaultStopsOnlyAfterTheFaultSeverityHeld) {
+TEST(Proportionate, ALeakStopsOnlyAfterTheCriticalSeverityHeld) {
   Arbiter a;
   a.on_fault(fault("pitch_diag", "pitch_actuator_3", "hydraulic_leakage", "warning"), 0.0);
   EXPECT_EQ(a.evaluate(50.0).mode, Mode::kDegraded);
-  // t=50: severity fault -> the confirmation starts now, not at the warning
+  // t=50: severity fault (a leak at the point it shares with pump wear): still only the derate, for an hour
   a.on_fault(fault("pitch_diag", "pitch_actuator_3", "hydraulic_leakage", "fault"), 50.0);
-  EXPECT_EQ(a.evaluate(59.9).mode, Mode::kDegraded);
-  EXPECT_EQ(a.evaluate(60.0).mode, Mode::kSafeStop);
+  EXPECT_EQ(a.evaluate(60.0).mode, Mode::kDegraded);
+  EXPECT_EQ(a.evaluate(3600.0).mode, Mode::kDegraded);
+  // t=3600: critical (well past that point) -> the confirmation starts now
+  a.on_fault(fault("pitch_diag", "pitch_actuator_3", "hydraulic_leakage", "critical"), 3600.0);
+  EXPECT_EQ(a.evaluate(3609.9).mode, Mode::kDegraded);
+  EXPECT_EQ(a.evaluate(3610.0).mode, Mode::kSafeStop);
 }
 
 TEST(Proportionate, AFlippingClassIsUncertainAndDeratedUntilItSettles) {
   Arbiter a;  // class_settle_time 30 s, stop_confirm_time 10 s
   auto raise = [&](const char* cls, double t) {
-    a.on_fault(fault("pitch_diag", "pitch_actuator_2", cls), t);
+    // pitch_diag calls only a leak critical (its stop severity)
+    a.on_fault(fault("pitch_diag", "pitch_actuator_2", cls, std::string(cls) == "hydraulic_leakage" ? "critical" : "fault"),
+               t);
   };
   auto clear = [&](const char* cls, double t) {
     a.on_fault(fault("pitch_diag", "pitch_actuator_2", cls, "fault", 0.0, false), t);
@@ -349,13 +355,13 @@ TEST(Proportionate, AFlippingClassIsUncertainAndDeratedUntilItSettles) {
 
 // --- Isolation through the arbiter: secondary reports are shown, not acted on ---
 
-// A speed-sensor fault detected at 100 s and a leak "fault" detected at `leak_detected`, both reported.
+// A speed-sensor fault detected at 100 s and a critical leak detected at `leak_detected`, both reported.
 Arbiter speed_fault_and_leak(const char* speed_sensor, double leak_detected) {
   Arbiter a;
   auto speed = fault("sensor_bias", speed_sensor, "sensor_bias", "fault", 0.03);
   speed.t_detected = 100.0;
   a.on_fault(speed, 100.0);
-  auto leak = fault("pitch_diag", "pitch_actuator_2", "hydraulic_leakage", "fault");
+  auto leak = fault("pitch_diag", "pitch_actuator_2", "hydraulic_leakage", "critical");
   leak.t_detected = leak_detected;
   a.on_fault(leak, std::max(100.0, leak_detected + 1.0));
   return a;
