@@ -21,7 +21,7 @@ constexpr double kAfterEnd = 60.0;
 constexpr double kStopAfterEnd = 300.0;
 // Ice that warrants a stop: ice_detect's critical level (deploy/config/ice_detect.yaml critical_mass), less
 // the estimator's error (rms 1 % of the inertia, about 400 kg).
-constexpr double kStopIceMass = 4500.0, kStopIceShare = 0.9;
+constexpr double kStopIceMass = 4500.0, kStopIceShare = 0.9, kStopIceWindow = 120.0;
 
 double detected_at(const nlohmann::json& d) {
   return d["t_detected"].is_number() ? d["t_detected"].get<double>() : d["t"].get<double>();
@@ -203,7 +203,10 @@ std::vector<StopRecord> stops(const std::vector<InjectedFault>& injected,
       for (const auto& i : injected)
         s.warranted |= i.type == "hydraulic_leakage" && i.turbine == h.turbine_id && s.t >= i.start &&
                        s.t <= i.end + kStopAfterEnd;
-      s.warranted |= injected_ice(injected, h.turbine_id, s.t) >= kStopIceShare * kStopIceMass;
+      // Ice: at its stop level at any time in the last kStopIceWindow (the evidence a stop is decided on is
+      // that old; a shedding seconds before the stop does not make it unwarranted).
+      for (double back = 0.0; back <= kStopIceWindow && !s.warranted; back += 1.0)
+        s.warranted |= injected_ice(injected, h.turbine_id, s.t - back) >= kStopIceShare * kStopIceMass;
       out.push_back(s);
     }
     was = stop;

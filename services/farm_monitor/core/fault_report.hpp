@@ -58,7 +58,8 @@ std::vector<ReportRow> match(const std::vector<InjectedFault>& injected, const s
 std::vector<ExtraReport> extra_reports(const std::vector<InjectedFault>& injected,
                                        const std::vector<HistoryRow>& history);
 /// Each change to safe stop, judged against the injected faults that warrant one: a hydraulic leak active, or
-/// ended within 300 s, at that time; ice on the rotor within 10 % of ice_detect's critical 4500 kg.
+/// ended within 300 s, at that time; ice on the rotor within 10 % of ice_detect's critical 4500 kg at some
+/// time in the 120 s before it.
 std::vector<StopRecord> stops(const std::vector<InjectedFault>& injected,
                               const std::vector<HistoryRow>& history);
 /// The table of injected faults against detections, then the reports no injected fault explains (secondary

@@ -189,3 +189,43 @@ TEST(FaultReportTable, ShowsAReclassificationAndCountsItApart) {
 }
 
 }  // namespace
+
+TEST(FaultReportStops, AStopIsWarrantedByALeakOrByIceAtItsStopLevelShortlyBefore) {
+  using namespace windfdi::farm;
+  auto stop_at = [](const std::string& turbine, double t) {
+    return HistoryRow{t, "config", turbine, {{"t", t}, {"mode", "safe_stop"}}};
+  };
+  auto normal_at = [](const std::string& turbine, double t) {
+    return HistoryRow{t, "config", turbine, {{"t", t}, {"mode", "normal"}}};
+  };
+  InjectedFault leak{"WT01", "pitch_actuator_3", "hydraulic_leakage", 100.0, "", ""};
+  leak.end = 200.0;
+  // 2500 kg ramped over 600 s, 54 % of it shed, then 4000 kg over 300 s (5150 kg), 63 % of that shed at 5172
+  // s
+  auto ice = [](double value, double ramp, double start) {
+    InjectedFault i{"WT02", "rotor", "ice_accretion", start, "", ""};
+    i.value = value;
+    i.ramp_in = ramp;
+    return i;
+  };
+  auto shed = [](double fraction, double start) {
+    InjectedFault i{"WT02", "rotor", "ice_shedding", start, "", ""};
+    i.fraction = fraction;
+    return i;
+  };
+  const std::vector<InjectedFault> injected = {leak, ice(2500, 600, 3075), shed(0.54, 4029),
+                                               ice(4000, 300, 4459), shed(0.63, 5172)};
+  EXPECT_NEAR(injected_ice(injected, "WT02", 5170.0), 2500 * 0.46 + 4000, 1e-6);
+  const auto s = stops(injected, {stop_at("WT01", 150.0), normal_at("WT01", 160.0), stop_at("WT01", 1000.0),
+                                  stop_at("WT02", 4600.0), normal_at("WT02", 4700.0), stop_at("WT02", 5174.3),
+                                  normal_at("WT02", 5200.0), stop_at("WT02", 5400.0)});
+  // THEN stops with the leak active or just over are warranted, one 800 s after it is not
+  ASSERT_EQ(s.size(), 5u);
+  EXPECT_TRUE(s[0].warranted);
+  EXPECT_FALSE(s[1].warranted);
+  // AND ice: not while it is still growing below the level (4600 s: 1150 + 2107 kg), yes 2 s after a
+  // shedding that came once it had been above it, no longer 228 s after that shedding
+  EXPECT_FALSE(s[2].warranted);
+  EXPECT_TRUE(s[3].warranted);
+  EXPECT_FALSE(s[4].warranted);
+}
