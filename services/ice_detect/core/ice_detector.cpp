@@ -123,7 +123,11 @@ bool IceDetector::update(const FrameSample& s, double power, bool gap, std::vect
   for (double b : s.pitch) pitch = std::max(pitch, std::isfinite(b) ? b : 90.0);
   // The generator speed is the estimator's measurement: while its twin (the rotor speed) disagrees, or
   // another service reports a speed sensor, it is not fed (held, like a stop) rather than read as inertia.
-  bool speed_suspect = context_.speed_suspect();
+  // The power model reads each blade's pitch: a reported pitch sensor holds it too (multi-fault suite: a
+  // pitch reading stuck at 10.5 deg near fine pitch raised ice_accretion on two turbines after 180 s).
+  const auto& pitch_reported = context_.pitch_sensor_suspect;
+  bool speed_suspect = context_.speed_suspect() ||
+                       std::any_of(pitch_reported.begin(), pitch_reported.end(), [](bool b) { return b; });
   if (cfg_.speed_mismatch > 0.0 && cfg_.gear_ratio > 0.0 && std::isfinite(s.rotor_speed) &&
       s.rotor_speed > 0.1) {
     const double m = std::fabs(s.generator_speed / cfg_.gear_ratio - s.rotor_speed) / s.rotor_speed;

@@ -114,10 +114,12 @@ struct PlantRun {
   double rms = 0, max = 0;
   double max_over = 0;  // largest relative overestimate after 300 s
   std::vector<FaultEvent> events;
+  uint64_t suspect = 0;  // samples held for a suspect input
 };
 
-PlantRun run_plant(double wind, int seconds, bool model_power, const std::vector<plant::FaultSpec>& faults = {},
-                   double ice = 0.0, uint64_t seed = 7, const YamlSection& config = defaults()) {
+PlantRun run_plant(double wind, int seconds, bool model_power,
+                   const std::vector<plant::FaultSpec>& faults = {}, double ice = 0.0, uint64_t seed = 7,
+                   const YamlSection& config = defaults(), const InputContext& context = {}) {
   TurbineParams p;
   AeroModel aero(p);
   plant::TurbineScenario t;
@@ -129,6 +131,7 @@ PlantRun run_plant(double wind, int seconds, bool model_power, const std::vector
   plant::TurbineSim sim(p, t, faults, seed, 100.0);
   const DetectorConfig cfg = load_detector_config(config, p);
   IceDetector det(cfg, p);
+  det.set_context(context);
   AeroPowerInput aero_power(aero, cfg.wind_window, cfg.estimator.sample_time);
   PlantRun r;
   InertiaOutput o;
@@ -153,6 +156,7 @@ PlantRun run_plant(double wind, int seconds, bool model_power, const std::vector
     }
   }
   r.rms = std::sqrt(r.rms / std::max(n, 1));
+  r.suspect = det.suspect_samples();
   return r;
 }
 
@@ -288,6 +292,22 @@ TEST(IceDetector, OnlyStrongSettledEvidenceRaisesTheStopLevel) {
   EXPECT_LT(fault->t, critical->t);
   EXPECT_GE(critical->t - critical->t_detected, cfg.critical_confirm_time - 1.0) << describe(heavy);
   EXPECT_GT(critical->size, cfg.critical_mass * (1.0 + cfg.critical_margin));
+}
+
+TEST(IceDetector, AReportedPitchSensorHoldsTheEstimate) {
+  // GIVEN a clean rotor at 11 m/s whose blade-3 pitch reading is stuck at 10.5 deg from 60 s, and another
+  // service (sensor_bias) reporting pitch_sensor_3
+  auto stuck = plant::FaultSpec::make("WT01", "pitch_3", "stuck", 60.0);
+  stuck.value = 10.5;
+  InputContext reported;
+  reported.pitch_sensor_suspect[2] = true;
+  const auto r = run_plant(11.0, 900, true, {stuck}, 0.0, 7, defaults(), reported);
+  // THEN the estimator is held throughout (its power model would read the stuck pitch) and nothing is raised
+  EXPECT_GE(r.suspect, 899u * 100u);
+  EXPECT_TRUE(r.events.empty()) << describe(r);
+  // (without the report it is fed: this plant run happens to raise nothing, a closed-loop one in degraded
+  // mode raised ice after 180 s)
+  EXPECT_EQ(run_plant(11.0, 120, true, {stuck}).suspect, 0u);
 }
 
 TEST(IceDetector, BadSamplesAreCountedAndNeverFed) {
