@@ -1,6 +1,8 @@
 // A turbine's suspect inputs from other services' fault reports.
 #include "input_context.hpp"
 
+#include "names.hpp"
+
 namespace windfdi {
 
 bool InputContextTracker::on_fault(const FaultEvent& e) {
@@ -26,8 +28,7 @@ void InputContextTracker::rebuild() {
     if (!raised) continue;
     const auto a = key.find('/'), b = key.find('/', a + 1);
     const std::string component = key.substr(a + 1, b - a - 1);
-    const char last = component.back();
-    const int blade = (last >= '1' && last <= '3') ? last - '1' : -1;
+    const int blade = blade_index(component);
     if (component == "rotor_speed_sensor") c.rotor_speed_suspect = true;
     if (component == "generator_speed_sensor") c.generator_speed_suspect = true;
     if (blade >= 0 && component.rfind("pitch_sensor_", 0) == 0) c.pitch_sensor_suspect[blade] = true;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "names.hpp"
+
 namespace windfdi::isolation {
 
 const std::vector<Signature>& signature_table() {
@@ -42,9 +44,8 @@ namespace {
 
 // Blade number ('1'..'3') of a blade component, or 0.
 char blade_of(const std::string& component) {
-  const char last = component.empty() ? 0 : component.back();
-  return (last >= '1' && last <= '3' && component.size() > 2 && component[component.size() - 2] == '_') ? last
-                                                                                                        : 0;
+  const int i = blade_index(component);
+  return i < 0 ? 0 : static_cast<char>('1' + i);
 }
 
 // Matches `component` against a row pattern; `bound` is the blade the other side fixed (0: none).

@@ -54,4 +54,11 @@ std::vector<std::string> fault_classes_for(const std::string& c) {
   return {};
 }
 
+int blade_index(const std::string& component) {
+  const std::size_t n = component.size();
+  if (n < 3 || component[n - 2] != '_') return -1;
+  const char last = component[n - 1];
+  return last >= '1' && last <= '3' ? last - '1' : -1;
+}
+
 }  // namespace windfdi

@@ -20,5 +20,7 @@ int name_index(const std::vector<std::string>& names, const std::string& name);
 bool is_component(const std::string& name);
 /// The fault classes that make sense on a component (e.g. pitch actuator classes on pitch_actuator_2).
 std::vector<std::string> fault_classes_for(const std::string& component);
+/// Blade index 0..2 of a per-blade component ("pitch_actuator_2" -> 1, "blade_moment_sensor_3" -> 2), or -1.
+int blade_index(const std::string& component);
 
 }  // namespace windfdi

@@ -71,10 +71,6 @@ Arbiter::Arbiter(const ArbiterConfig& config) : config_(config) {}
 namespace {
 std::string cause_key(const FaultEvent& e) { return e.source + "/" + e.component + "/" + e.fault; }
 // Blade index (0-based) from a component ending in _1.._3, or -1.
-int blade_of(const std::string& component) {
-  const char last = component.empty() ? 0 : component.back();
-  return (last >= '1' && last <= '3') ? last - '1' : -1;
-}
 bool starts_with(const std::string& s, const char* p) { return s.rfind(p, 0) == 0; }
 // A leak stops the turbine only when pitch_diag calls it critical: far enough along its path that it cannot be
 // the pump wear (or a misread high air content) it shares the point alpha 0.5 with. Measured on the multi-fault
@@ -167,7 +163,7 @@ void demand(E& current, E wanted) {
 void Arbiter::apply(Cause& cause, double now, Configuration& cfg) {
   const FaultEvent& e = cause.event;
   auto reason = [&](const std::string& action) { cfg.reasons.push_back({e.source, e.component, e.fault, action}); };
-  const int blade = blade_of(e.component);
+  const int blade = blade_index(e.component);
 
   if (starts_with(e.component, "blade_moment_sensor_")) {
     // Seed 000's fault-tolerant IPC: the LIDAR load model replaces a failed strain gauge.

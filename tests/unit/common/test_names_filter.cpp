@@ -63,3 +63,13 @@ TEST(ContentFilter, ExpressionSelectsEachTurbineByKey) {
   EXPECT_EQ(bus::turbine_filter_expression({"WT01", "WT07"}, params), "turbine_id = %0 OR turbine_id = %1");
   EXPECT_EQ(params, (std::vector<std::string>{"'WT01'", "'WT07'"}));
 }
+
+TEST(Names, BladeIndexOfPerBladeComponentsOnly) {
+  EXPECT_EQ(windfdi::blade_index("pitch_actuator_1"), 0);
+  EXPECT_EQ(windfdi::blade_index("pitch_sensor_2"), 1);
+  EXPECT_EQ(windfdi::blade_index("blade_moment_sensor_3"), 2);
+  EXPECT_EQ(windfdi::blade_index("pitch_actuator_4"), -1);
+  EXPECT_EQ(windfdi::blade_index("rotor_speed_sensor"), -1);
+  EXPECT_EQ(windfdi::blade_index("wt3"), -1);  // a digit that is not a blade suffix
+  EXPECT_EQ(windfdi::blade_index(""), -1);
+}
