@@ -22,7 +22,7 @@ struct InputContext {
   bool turbine_stopped = false;  ///< the arbiter holds the turbine in safe stop: its actuators are parked at feather
   /// deg/s, the pitch rate limit the arbiter commands per blade (infinite: none seen)
   std::array<double, 3> pitch_rate_limit{kNoLimit, kNoLimit, kNoLimit};
-  static constexpr double kNoLimit = 1e300;
+  static constexpr double kNoLimit = std::numeric_limits<double>::infinity();
   /// Counts the changes a transient follows: a suspect set that changed (the controller may switch to a
   /// corrected measurement) or a new control configuration from the arbiter.
   uint64_t transitions = 0;

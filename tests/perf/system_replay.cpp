@@ -116,15 +116,18 @@ int main(int argc, char** argv) {
     };
     uint64_t events = 0;
     std::vector<FaultEvent> produced;
-    const int bias_corrected = column_of(services[1].spec, "corrected_generator_speed");
-    const int ice_inertia = column_of(services[3].spec, "inertia");
+    // The estimates the closed loop reads: sensor_bias's corrected generator speed (the plant's controller) and
+    // ice_detect's inertia (the arbiter's ice-adapted controller).
+    const Service& bias = services[1];
+    const Service& ice = services[3];
+    const auto bias_corrected = static_cast<std::size_t>(column_of(bias.spec, "corrected_generator_speed"));
+    const auto ice_inertia = static_cast<std::size_t>(column_of(ice.spec, "inertia"));
     auto process = [&](const std::string& id, const FrameSample& s, bool gap) {
       auto [tit, fresh] = turbines.try_emplace(id, Turbine{arbiter::Arbiter(arbiter_config), {}, false, s.t});
       Turbine& turbine = tit->second;
       produced.clear();
       bool ok = true;
-      for (std::size_t k = 0; k < services.size(); ++k) {
-        Service& svc = services[k];
+      for (Service& svc : services) {
         auto& d = svc.turbines[id];
         if (!d) d = svc.spec.make(id);
         const InputContext& c = svc.contexts.try_emplace(id, svc.spec.name).first->second.context();
@@ -136,12 +139,12 @@ int main(int argc, char** argv) {
         ok &= d->update(s, gap, ev);
         std::vector<std::string> values;
         if (d->estimate_due(values)) {
-          if (k == 1) {
+          if (&svc == &bias) {
             turbine.corrected_generator_speed =
-                std::stod(values.at(static_cast<std::size_t>(bias_corrected)));
+                std::stod(values.at(bias_corrected));
             turbine.corrected_at = s.t;
-          } else if (k == 3) {
-            const double inertia = std::stod(values.at(static_cast<std::size_t>(ice_inertia)));
+          } else if (&svc == &ice) {
+            const double inertia = std::stod(values.at(ice_inertia));
             if (std::isfinite(inertia) && inertia > 0) turbine.arbiter.on_inertia(inertia);
           }
         }
@@ -187,8 +190,8 @@ int main(int argc, char** argv) {
           const plant::ControlInput in =
               it == turbines.end() ? plant::ControlInput{} : control_input(it->second, sim->time());
           FrameSample s = sim->step(in);
-          s.aero_torque = s.aero_power =
-              kNaN;  // not measured on a real turbine (windfdi-plant without truth)
+          // Not measured on a real turbine (windfdi-plant records them only as truth).
+          s.aero_torque = s.aero_power = kNaN;
           process(sim->id(), s, false);
           ++samples;
         }

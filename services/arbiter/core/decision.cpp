@@ -70,7 +70,6 @@ Arbiter::Arbiter(const ArbiterConfig& config) : config_(config) {}
 
 namespace {
 std::string cause_key(const FaultEvent& e) { return e.source + "/" + e.component + "/" + e.fault; }
-// Blade index (0-based) from a component ending in _1.._3, or -1.
 bool starts_with(const std::string& s, const char* p) { return s.rfind(p, 0) == 0; }
 // A leak stops the turbine only when pitch_diag calls it critical: far enough along its path that it cannot be
 // the pump wear (or a misread high air content) it shares the point alpha 0.5 with. Measured on the multi-fault

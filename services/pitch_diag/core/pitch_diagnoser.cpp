@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <set>
 
 namespace windfdi::pitch_diag {
@@ -298,9 +297,7 @@ void PitchDiagnoser::update(const FrameSample& s, std::vector<PitchEvent>& event
       blades_[i].restart();
       continue;
     }
-    const double limit = suspects_.context().pitch_rate_limit[i];
-    blades_[i].set_rate_limit(limit < InputContext::kNoLimit ? limit
-                                                             : std::numeric_limits<double>::infinity());
+    blades_[i].set_rate_limit(suspects_.context().pitch_rate_limit[i]);
     blades_[i].update(u, y);
   }
   if (!due_ && next_tick_ <= 0.0) next_tick_ = s.t + cfg_.estimate_period;
