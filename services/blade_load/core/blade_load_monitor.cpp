@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace windfdi::blade_load {
 
@@ -253,7 +254,7 @@ bool BladeLoadMonitor::gated() const {
   return since_steep_ < n;
 }
 
-void BladeLoadMonitor::channel_values(std::array<std::array<double, kChannels>, 3>& x) const {
+void BladeLoadMonitor::channel_values(BladeChannels& x) const {
   for (auto& r : x) r.fill(kNaN);
   if (gated()) return;  // a window with a blade on the steep part of k_M: no information
   const bool all_sensors = sensor_valid_[0] && sensor_valid_[1] && sensor_valid_[2];
@@ -300,40 +301,53 @@ bool BladeLoadMonitor::standalone(int c) const {
 }
 
 double BladeLoadMonitor::channel_t(int b, int c, double x) const {
-  return healthy_[b][c].outlier_t(x) / noise_scale_[c];
+  return healthy_[b][c].outlier_t(x) / noise_[c].scale;
 }
 
-void BladeLoadMonitor::update_noise(const std::array<std::array<double, kChannels>, 3>& x) {
+void BladeLoadMonitor::update_noise(const BladeChannels& x) {
   // A residual's spread is not stationary: it follows how far the beams' wind is from the rotor's and how
   // differently the three blades sample the turbulence (low wind, where the mean load is small, TI 0.155:
   // one-revolution values three times the spread learned at start-up for minutes, and four false reports in
   // 2000 s).
-  std::array<std::array<double, kChannels>, 3> t;
+  BladeChannels t, unit;
   for (int b = 0; b < 3; ++b)
-    for (int c = 0; c < kChannels; ++c)
-      t[b][c] = healthy_[b][c].learned && std::isfinite(x[b][c]) ? healthy_[b][c].outlier_t(x[b][c]) : kNaN;
-  follow_noise(t, noise_ms_, noise_scale_);
+    for (int c = 0; c < kChannels; ++c) {
+      const HealthyStats& h = healthy_[b][c];
+      t[b][c] = h.learned && std::isfinite(x[b][c]) ? h.outlier_t(x[b][c]) : kNaN;
+      unit[b][c] = h.outlier_sd();
+    }
+  follow_noise(t, unit, noise_);
 }
 
-void BladeLoadMonitor::follow_noise(const std::array<std::array<double, kChannels>, 3>& t,
-                                    std::array<double, kChannels>& mean_square,
-                                    std::array<double, kChannels>& scale) const {
-  // The present level is read from the CLOSEST PAIR of blades (|t_i - t_j|): a failed gauge is one blade and
-  // moves both pairs it is in, never the third. The t-values are divided by that level only when it is above
-  // the healthy one, so calm weather keeps the test's full power. sqrt(E[min pair (t_i - t_j)^2]) for healthy
-  // t: iid standard normal per blade (the LIDAR residual), or a blade's value minus the mean of the other
-  // two, normalised (the cross-blade channels).
-  constexpr double kClosestPairRms[kChannels] = {0.588, 0.721, 0.721, 0.721, 0.721};
+void BladeLoadMonitor::follow_noise(const BladeChannels& t, const BladeChannels& unit,
+                                    std::array<NoiseLevel, kChannels>& level) const {
+  // The present level is the smallest of the three pairs of blades' mean square differences: a failed gauge
+  // is one blade and moves both pairs it is in, never the third. A pair's difference is taken in the
+  // residual's own units (t times the blade's unit, the test's denominator) over the pair's mean unit: a
+  // fault on blade 1 moves the cross-blade residuals of blades 2 and 3 by the same -delta / 2, but their
+  // t-values by different amounts (their learned spreads and autocorrelations differ), and read in t a 1
+  // %/min drift inflated its own noise level 2.5-fold in 300 s (found once in two runs). Each pair is
+  // followed on its own (the smallest of three followed levels, not the level of the smallest per
+  // revolution): a 10-revolution window mean barely changes from one revolution to the next, so a
+  // per-revolution choice kept switching to whichever pair the fault's slow effect on the loads had least
+  // separated. The t-values are divided by that level only when it is above the healthy one, so calm weather
+  // keeps the test's full power.
+  constexpr double kPairVariance[kChannels] = {2.0, 3.0, 3.0, 3.0, 3.0};
   if (cfg_.noise_revolutions <= 0) return;
   for (int c = 0; c < kChannels; ++c) {
     if (c == kWitnessChannel) continue;  // it only confirms the LIDAR residual
     if (!(std::isfinite(t[0][c]) && std::isfinite(t[1][c]) && std::isfinite(t[2][c]))) continue;
-    const double pair =
-        std::min({std::fabs(t[0][c] - t[1][c]), std::fabs(t[0][c] - t[2][c]), std::fabs(t[1][c] - t[2][c])});
-    const double ref = kClosestPairRms[c] * kClosestPairRms[c];
-    if (mean_square[c] < 0) mean_square[c] = ref;
-    mean_square[c] += (pair * pair - mean_square[c]) / cfg_.noise_revolutions;
-    scale[c] = std::max(1.0, std::sqrt(mean_square[c] / ref));
+    NoiseLevel& L = level[c];
+    double spread = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 3; ++i) {
+      const int j = (i + 1) % 3;
+      const double u = std::sqrt(0.5 * (unit[i][c] * unit[i][c] + unit[j][c] * unit[j][c]));
+      const double d = (t[i][c] * unit[i][c] - t[j][c] * unit[j][c]) / u;
+      if (L.pair_var[i] < 0) L.pair_var[i] = kPairVariance[c];
+      L.pair_var[i] += (d * d - L.pair_var[i]) / cfg_.noise_revolutions;
+      spread = std::min(spread, L.pair_var[i]);
+    }
+    L.scale = std::max(1.0, std::sqrt(spread / kPairVariance[c]));
   }
 }
 
@@ -341,7 +355,7 @@ void BladeLoadMonitor::revolution(double t, std::vector<FaultEvent>& events) {
   (void)events;
   if (last_rev_t_ >= 0) rev_time_ = t - last_rev_t_;
   last_rev_t_ = t;
-  std::array<std::array<double, kChannels>, 3> x;
+  BladeChannels x;
   channel_values(x);
   last_x_ = x;
   if (gated()) ++gated_revolutions_;
@@ -375,8 +389,9 @@ void BladeLoadMonitor::revolution(double t, std::vector<FaultEvent>& events) {
   }
 
   // Moving-window mean test (drift), once per revolution on non-overlapping windows.
-  std::array<std::array<double, kChannels>, 3> dt{}, wm{};
+  BladeChannels dt{}, wm{}, drift_unit{};
   for (auto& r : dt) r.fill(kNaN);
+  for (auto& r : drift_unit) r.fill(1.0);
   for (auto& r : wm) r.fill(kNaN);
   const int W = cfg_.drift_window;
   for (int b = 0; b < 3; ++b) {
@@ -393,15 +408,16 @@ void BladeLoadMonitor::revolution(double t, std::vector<FaultEvent>& events) {
       }
       if (2 * m >= W && m >= 2) {
         dt[b][c] = healthy_[b][c].drift_t(sum / m, m);
+        drift_unit[b][c] = healthy_[b][c].drift_sd(m);
         wm[b][c] = sum / m - healthy_[b][c].mean;
       }
     }
   }
   // The window means' own noise level (faster turbulence raises the one-revolution spread more than a
   // 10-revolution mean's: scaling the drift test by the former missed half the drifts of the suite).
-  follow_noise(dt, drift_noise_ms_, drift_noise_scale_);
+  follow_noise(dt, drift_unit, drift_noise_);
   for (int b = 0; b < 3; ++b)
-    for (int c = 0; c < kChannels; ++c) dt[b][c] /= drift_noise_scale_[c];
+    for (int c = 0; c < kChannels; ++c) dt[b][c] /= drift_noise_[c].scale;
   for (int b = 0; b < 3; ++b) {
     BladeState& B = blades_[b];
     B.drift_firing = false;
@@ -531,7 +547,7 @@ void BladeLoadMonitor::tick(double t, std::vector<FaultEvent>& events) {
     return;
   }
 
-  std::array<std::array<double, kChannels>, 3> x, tv;
+  BladeChannels x, tv;
   channel_values(x);
   for (int b = 0; b < 3; ++b)
     for (int c = 0; c < kChannels; ++c) {

@@ -111,6 +111,8 @@ struct BladeLoadOutput {
 /// blades' (a common LIDAR-model error cancels). kMean: the sensor/model mean-load ratio minus the other blades'
 /// (an offset or drift). kRawWitness, kRawMean: the sensors alone against each other, when the LIDAR is missing.
 enum Channel { kModelChannel = 0, kWitnessChannel, kMeanChannel, kRawWitnessChannel, kRawMeanChannel, kChannels };
+/// One value per blade and residual channel.
+using BladeChannels = std::array<std::array<double, kChannels>, 3>;
 const char* channel_name(int c);
 
 /// What a restart keeps: the learned table correction and the healthy statistics.
@@ -145,7 +147,7 @@ class BladeLoadMonitor {
   /// Largest |outlier t| / critical value seen per channel after learning (a healthy run's margin).
   double max_ratio(int channel) const { return max_ratio_[channel]; }
   /// The factor a channel's t-values are divided by now (>= 1; noise_revolutions).
-  double noise_scale(int channel) const { return noise_scale_[channel]; }
+  double noise_scale(int channel) const { return noise_[channel].scale; }
   /// The class raised on a blade ("" when none).
   const std::string& raised(int blade) const { return blades_[blade].raised; }
   int adaptations() const { return adaptations_; }
@@ -186,7 +188,7 @@ class BladeLoadMonitor {
   void reset_windows();
   void tick(double t, std::vector<FaultEvent>& events);       // estimate rate
   void revolution(double t, std::vector<FaultEvent>& events); // once per revolution
-  void channel_values(std::array<std::array<double, kChannels>, 3>& x) const;
+  void channel_values(BladeChannels& x) const;
   void blade_decision(int b, double t, bool active, bool confirmed, double stat, double crit, int channel,
                       double size, std::vector<FaultEvent>& events);
   void maybe_adapt(double t);
@@ -215,16 +217,19 @@ class BladeLoadMonitor {
   std::array<double, kChannels> max_ratio_{};
   double crit_[kChannels] = {};
   double witness_crit_ = 0.0, drift_crit_[kChannels] = {};
-  // Each residual's present noise level (mean square of the closest pair of blades' t difference over
-  // noise_revolutions) and the factor >= 1 its t-values are divided by.
-  std::array<double, kChannels> noise_ms_{-1, -1, -1, -1, -1};
-  std::array<double, kChannels> noise_scale_{1, 1, 1, 1, 1};
-  std::array<double, kChannels> drift_noise_ms_{-1, -1, -1, -1, -1};  // the same for the drift test's t
-  std::array<double, kChannels> drift_noise_scale_{1, 1, 1, 1, 1};
-  void follow_noise(const std::array<std::array<double, kChannels>, 3>& t,
-                    std::array<double, kChannels>& mean_square, std::array<double, kChannels>& scale) const;
+  // Each residual's present noise level, read from the three pairs of blades (the mean square of each pair's
+  // difference over noise_revolutions), and the factor >= 1 the t-values are divided by.
+  struct NoiseLevel {
+    std::array<double, 3> pair_var{-1.0, -1.0,
+                                   -1.0};  ///< mean square of each pair's difference; < 0: not started
+    double scale = 1.0;
+  };
+  std::array<NoiseLevel, kChannels> noise_{},
+      drift_noise_{};  // one-revolution values; the drift test's window means
+  void follow_noise(const BladeChannels& t, const BladeChannels& unit,
+                    std::array<NoiseLevel, kChannels>& level) const;
   double channel_t(int blade, int channel, double x) const;
-  void update_noise(const std::array<std::array<double, kChannels>, 3>& x);
+  void update_noise(const BladeChannels& x);
   double rev_time_ = 0.0, last_rev_t_ = -1.0;
   // Adaptation accumulators.
   int adapt_n_ = 0;
@@ -235,7 +240,7 @@ class BladeLoadMonitor {
   int adaptations_ = 0;
   uint64_t rejected_ = 0;
   double last_pitch_mean_ = 0.0;
-  std::array<std::array<double, kChannels>, 3> last_x_{};
+  BladeChannels last_x_{};
   // Steep-surface gate.
   std::array<double, 3> pitch_lp_{kNaN, kNaN, kNaN};
   uint64_t since_steep_ = UINT64_MAX / 2;  // samples since the last sample with a blade on a steep k_M

@@ -65,11 +65,13 @@ double HealthyStats::sd() const { return std::sqrt(std::max(var, 1e-300)); }
 
 double HealthyStats::n_eff(double m) const { return std::max(1.0, m * (1.0 - rho) / (1.0 + rho)); }
 
-double HealthyStats::outlier_t(double x) const { return (x - mean) / (sd() * std::sqrt(1.0 + 1.0 / std::max(n, 1))); }
+double HealthyStats::outlier_sd() const { return sd() * std::sqrt(1.0 + 1.0 / std::max(n, 1)); }
 
-double HealthyStats::drift_t(double window_mean, int m) const {
-  return (window_mean - mean) / (sd() * std::sqrt(1.0 / n_eff(m) + 1.0 / n_eff(n)));
-}
+double HealthyStats::outlier_t(double x) const { return (x - mean) / outlier_sd(); }
+
+double HealthyStats::drift_sd(int m) const { return sd() * std::sqrt(1.0 / n_eff(m) + 1.0 / n_eff(n)); }
+
+double HealthyStats::drift_t(double window_mean, int m) const { return (window_mean - mean) / drift_sd(m); }
 
 HealthyStats HealthyLearner::freeze() const {
   HealthyStats s;

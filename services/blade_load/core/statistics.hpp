@@ -24,10 +24,12 @@ struct HealthyStats {
   double sd() const;
   /// Effective sample size of m consecutive values: m (1 - rho) / (1 + rho).
   double n_eff(double m) const;
-  /// The paper's two-sample t-test of one value against the healthy mean: (x - mean) / (sd sqrt(1 + 1/n)).
+  /// The paper's two-sample t-test of one value against the healthy mean: (x - mean) / outlier_sd().
   double outlier_t(double x) const;
-  /// Moving-window mean test: (mean_w - mean) / (sd sqrt(1/n_eff(m) + 1/n_eff(n))).
+  double outlier_sd() const;  ///< sd sqrt(1 + 1/n)
+  /// Moving-window mean test: (mean_w - mean) / drift_sd(m).
   double drift_t(double window_mean, int m) const;
+  double drift_sd(int m) const;  ///< sd sqrt(1/n_eff(m) + 1/n_eff(n))
 };
 
 /// Learns HealthyStats from a series, then freezes (or adapts slowly, only when the caller says it is healthy).

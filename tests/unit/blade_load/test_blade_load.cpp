@@ -261,17 +261,27 @@ TEST(PlantDetection, APersistentGainStaysAbruptForMinutes) {
   }
 }
 
-TEST(PlantDetection, DriftOfOnePercentPerMinuteDetectedBeforeFivePercent) {
-  // GIVEN the sensor_drift scenario's wind and 900 N m/s (1 % of the mean load per minute) on blade 1 at 400 s
-  auto f = fault("blade_moment_1", "drift", 400.0);
-  f.rate = 900.0;
-  const auto r = run_plant(16.0, 0.08, 0.25, 0.0, 720, {f}, 22, config(), LoadTable::load_csv(kTable));
-  const FaultEvent* e = first_raised(r.events, "blade_moment_sensor_1", 400.0);
-  ASSERT_NE(e, nullptr);
-  std::printf("[measured] drift: %s after %.1f s (%.2f %% of the mean) (%s)\n", e->fault.c_str(), e->t - 400.0,
-              (e->t - 400.0) / 60.0, e->detail.c_str());
-  EXPECT_EQ(e->fault, "sensor_drift");
-  EXPECT_LE(e->t - 400.0, 300.0);  // 5 % at 1 %/min
+TEST(PlantDetection, DriftOfOnePercentPerMinuteDetectedBeforeFivePercentAndHeld) {
+  // GIVEN the sensor_drift scenario's wind and 900 N m/s (1 % of the mean load per minute) on blade 1 at 300
+  // s, three turbulence seeds, 400 s of drift
+  for (uint64_t seed : {22u, 7u, 31u}) {
+    auto f = fault("blade_moment_1", "drift", 300.0);
+    f.rate = 900.0;
+    const auto r = run_plant(16.0, 0.08, 0.25, 0.0, 700, {f}, seed, config(), LoadTable::load_csv(kTable));
+    std::string seq;
+    for (const auto& e : r.events)
+      seq += e.component + " " + e.fault + (e.raised ? " raised@" : " cleared@") +
+             std::to_string(static_cast<int>(e.t)) + " (" + e.detail + "); ";
+    std::printf("[measured] drift seed %llu: %s\n", static_cast<unsigned long long>(seed), seq.c_str());
+    // THEN one event: sensor_drift raised on blade 1 before 5 % (300 s), and held while the drift grows (the
+    // drift's own effect on the other blades must not read as noise that hides it again)
+    ASSERT_EQ(r.events.size(), 1u) << seed << ": " << seq;
+    EXPECT_TRUE(r.events[0].raised) << seed;
+    EXPECT_EQ(r.events[0].fault, "sensor_drift") << seed;
+    EXPECT_EQ(r.events[0].component, "blade_moment_sensor_1") << seed;
+    EXPECT_GT(r.events[0].t, 300.0) << seed;
+    EXPECT_LE(r.events[0].t - 300.0, 300.0) << seed;
+  }
 }
 
 TEST(PlantDetection, IntermittentFaultClassifiedAsIntermittent) {
