@@ -34,7 +34,9 @@ BIN = os.path.join(BUILD, "bin")
 RADIUS, LAMBDA_OPT, RATED_SPEED, GEAR = 57.5, 8.1, 1.71, 95.0
 MEAN_FLAP_MOMENT = 5.4e6  # N m: 900 N m/s is the documented 1 %/min drift
 
-# Each class's documented delay (s from onset; services' READMEs), for "within its class's delay".
+# Each class's documented delay (s; services' READMEs), for "within its class's delay". The documented delays
+# were measured on faults at full size from their onset; a fault ramped in (ramp_in: actuator faults, ice) is
+# judged both from its onset (the benchmark's clock) and from the end of its ramp, when it has its full size.
 DELAY_TARGET = {
     "sensor_abrupt": 5.0, "sensor_invalid": 5.0, "sensor_intermittent": 60.0, "sensor_bias": 5.0,
     "pump_wear": 10.0, "high_air_content": 10.0, "hydraulic_leakage": 10.0,
@@ -220,8 +222,8 @@ def judge(reports):
             stop_times.setdefault(s["turbine"], s["t"])
         for f in r["faults"]:
             cls = f["expected"] or f"{f['target']}:{f['type']} (not covered)"
-            c = per_class.setdefault(cls, {"n": 0, "first": 0, "later": 0, "missed": 0, "late": 0, "stopped": 0,
-                                           "delays": []})
+            c = per_class.setdefault(cls, {"n": 0, "first": 0, "later": 0, "missed": 0, "late": 0, "late_full": 0,
+                                           "stopped": 0, "delays": []})
             if not f["expected"]:
                 c["n"] += 1
                 continue
@@ -239,6 +241,8 @@ def judge(reports):
                 c["delays"].append(f["delay"])
                 if f["delay"] > DELAY_TARGET.get(f["expected"], 1e9):
                     c["late"] += 1
+                if f["delay"] - f.get("ramp_in", 0.0) > DELAY_TARGET.get(f["expected"], 1e9):
+                    c["late_full"] += 1
             elif f["then"] and f["then"][-1] == f["expected"]:
                 c["later"] += 1
         for x in r["extra"]:
@@ -250,27 +254,29 @@ def judge(reports):
 
 
 def print_tables(per_class, stops_bad, stops_all, unexpected, secondary, hours, n_scen):
-    print(f"{'CLASS':<42} {'N':>3} {'FIRST':>5} {'LATER':>5} {'MISSED':>6} {'LATE':>4} {'STOPPED':>7} "
+    print(f"{'CLASS':<42} {'N':>3} {'FIRST':>5} {'LATER':>5} {'MISSED':>6} {'LATE':>4} {'LATE*':>5} {'STOPPED':>7} "
           f"{'MEDIAN s':>8} {'MAX s':>7}")
-    covered = right = within = 0
+    covered = right = within = within_full = 0
     for cls in sorted(per_class):
         c = per_class[cls]
         d = sorted(c["delays"])
         med = f"{d[len(d) // 2]:.1f}" if d else "-"
         mx = f"{d[-1]:.1f}" if d else "-"
         print(f"{cls:<42} {c['n']:>3} {c['first']:>5} {c['later']:>5} {c['missed']:>6} {c['late']:>4} "
-              f"{c['stopped']:>7} {med:>8} {mx:>7}")
+              f"{c['late_full']:>5} {c['stopped']:>7} {med:>8} {mx:>7}")
         if "(not covered)" not in cls:
             covered += c["n"]
             right += c["first"]
             within += c["first"] - c["late"]
+            within_full += c["first"] - c["late_full"]
     for name, x in unexpected:
         print(f"unexpected: {name} {x['turbine']} {x['component']} {x['fault']} from {x['source']} at "
               f"{x['t_detected']:.1f} s")
     rate = len(unexpected) / hours * 10 if hours else 0.0
     share = 100.0 * right / covered if covered else 0.0
     print(f"{n_scen} scenarios, {hours:.1f} turbine-hours: {right} of {covered} covered faults right first "
-          f"({share:.1f} %), {within} within their class's delay; {len(unexpected)} unexpected "
+          f"({share:.1f} %), {within} within their class's delay from the onset ({within_full} from the end of "
+          f"a ramp-in, LATE*); {len(unexpected)} unexpected "
           f"({rate:.2f} per 10 turbine-hours), {secondary} secondary; {stops_all} safe stops, {stops_bad} not warranted")
     return share, rate, stops_bad
 

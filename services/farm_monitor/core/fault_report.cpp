@@ -320,6 +320,7 @@ nlohmann::json report_json(const std::vector<ReportRow>& rows, const std::vector
                              {"target", i.target},
                              {"type", i.type},
                              {"start", i.start},
+                             {"ramp_in", i.ramp_in},
                              {"end", i.end < 1e299 ? nlohmann::json(i.end) : nlohmann::json(nullptr)},
                              {"component", i.component},
                              {"expected", i.fault},
