@@ -7,7 +7,7 @@
 
 namespace windfdi {
 
-/// One raised or cleared fault of one component, in the canonical names of ARCHITECTURE.md.
+/// One raised or cleared fault of one component, in the canonical names of docs/architecture.md.
 struct FaultEvent {
   double t = 0.0;               ///< time of this report (s, measurement time)
   std::string turbine_id;

@@ -1,4 +1,4 @@
-// Canonical component and fault-class names (ARCHITECTURE.md "Canonical names"), shared by every module.
+// Canonical component and fault-class names (docs/architecture.md "Canonical names"), shared by every module.
 #pragma once
 
 #include <string>

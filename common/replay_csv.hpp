@@ -1,4 +1,4 @@
-// The replay format (ARCHITECTURE.md "Replay: the offline contract"): FrameSample rows in CSV.
+// The replay format (docs/architecture.md "Replay: the offline contract"): FrameSample rows in CSV.
 #pragma once
 
 #include <array>

@@ -10,7 +10,7 @@
 namespace windfdi {
 
 /// The 4.8 MW FDI/FTC benchmark turbine (Odgaard, Stoustrup, Kinnaert 2009); drive train and pitch values
-/// as seed 001 Table I. Loaded from deploy/turbine/benchmark_4.8MW.yaml.
+/// as Witczak et al. Table I. Loaded from deploy/turbine/benchmark_4.8MW.yaml.
 struct TurbineParams {
   double rotor_radius = 57.5;          ///< m
   double hub_height = 87.6;            ///< m
@@ -37,7 +37,7 @@ struct TurbineParams {
   double load_radius = 0.7;            ///< effective radius of a blade's wind, share of the rotor radius
 
   double rotor_area() const;           ///< m^2
-  /// Lumped inertia referred to the generator side, (J_r + N^2 J_g) / N^2 (seed 003 errata), kg m^2.
+  /// Lumped inertia referred to the generator side, (J_r + N^2 J_g) / N^2 (Stotsky & Egardt 2013, errata in docs/papers.md), kg m^2.
   double lumped_inertia(double extra_rotor_inertia = 0.0) const;
 };
 

@@ -55,7 +55,7 @@ void load_profiles_once(const std::string& file) {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------------------
-// DDS-Security (issue 10): credentials by role, checked before the participant exists.
+// DDS-Security: credentials by role, checked before the participant exists.
 
 std::string security_role_for(const std::string& participant_name) {
   const std::string prefix = "windfdi-";

@@ -1,5 +1,5 @@
-// One simulated benchmark turbine (drive train: seed 001 eqs 31-33; pitch actuator: seed 002 eqs 11-13 with
-// Table 1, and the -omega_n^2 beta term eq 34 of seed 001 lacks).
+// One simulated benchmark turbine (drive train: Witczak et al. eqs 31-33; pitch actuator: Wu & Li eqs 11-13 with
+// Table 1, and the -omega_n^2 beta term eq 34 of Witczak et al. lacks).
 #include "turbine_sim.hpp"
 
 #include <algorithm>
@@ -18,7 +18,7 @@ struct TableSignature {
   const char* type;
   double omega_n, zeta;
 };
-// Seed 002, Table 1.
+// Wu & Li, Table 1.
 constexpr TableSignature kPitchFaults[] = {
     {"pump_wear", 7.27, 0.75}, {"hydraulic_leakage", 3.42, 0.9}, {"high_air_content", 5.73, 0.45}};
 
@@ -100,7 +100,7 @@ bool TurbineSim::fault_active(const FaultSpec& f) const {
 }
 
 double TurbineSim::pitch_alpha(const FaultSpec& f) const {
-  // Abrupt (no ramps) or gradual: ramp in, hold until `end`, ramp out (seed 002 eqs 11-13's indicator).
+  // Abrupt (no ramps) or gradual: ramp in, hold until `end`, ramp out (Wu & Li eqs 11-13's indicator).
   if (t_ < f.start) return 0.0;
   if (t_ < f.start + f.ramp_in) return f.alpha * (t_ - f.start) / f.ramp_in;
   if (t_ < f.end) return f.alpha;
@@ -129,7 +129,7 @@ double TurbineSim::measure(const std::string& channel, double true_value, double
     if (f.type == "bias" || f.type == "offset") {
       v += f.value;
     } else if (f.type == "bias_paper") {
-      // Seed 001 eqs 41-42: a state-dependent bias, k counted from the fault's start.
+      // Witczak et al. eqs 41-42: a state-dependent bias, k counted from the fault's start.
       const double k = std::floor(since / dt_ + 1e-6);
       v += f.amplitude * (true_value * std::sin(k / 500.0) + true_value * std::sin(k / 1000.0) + true_value);
     } else if (f.type == "gain") {
@@ -303,7 +303,7 @@ void TurbineSim::advance(const ControlInput& input, bool inject) {
         const int b = f.target.back() - '1';
         for (const auto& sig : kPitchFaults)
           if (f.type == sig.type) {
-            // Seed 002 eqs 11-13.
+            // Wu & Li eqs 11-13.
             wn[b] = (1 - alpha) * p_.pitch_omega_n + alpha * sig.omega_n;
             zeta[b] = (1 - alpha) * p_.pitch_zeta + alpha * sig.zeta;
           }
@@ -413,7 +413,7 @@ void TurbineSim::advance(const ControlInput& input, bool inject) {
   for (int sub = 0; sub < kSubsteps; ++sub) {
     gen_torque_ += (torque_ref - gen_torque_) * conv;
     const double tg = gen_torque_ + torque_offset;
-    // Seed 001 eqs 31-33.
+    // Witczak et al. eqs 31-33.
     auto f = [&](const std::array<double, 3>& x) {
       return std::array<double, 3>{
           -(bdt + br) / jr * x[0] + bdt / (n * jr) * x[1] - kdt / jr * x[2] + t_aero / jr,

@@ -19,7 +19,7 @@ namespace windfdi::plant {
 enum class OperatingMode { kNormal = 0, kDegraded = 1, kSafeStop = 2 };
 enum class IpcSource { kStrainGauge = 0, kLidarModel = 1, kOff = 2 };
 
-/// One blade's hydraulic pitch actuator, seed 001 eq 34 with the -omega_n^2 beta term it lacks:
+/// One blade's hydraulic pitch actuator, Witczak et al. eq 34 with the -omega_n^2 beta term it lacks:
 /// beta'' = -2 zeta omega_n beta' - omega_n^2 (beta - beta_ref), rate and angle limited, integrated by RK4.
 struct PitchActuator {
   double angle = 0.0;  ///< deg

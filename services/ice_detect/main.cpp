@@ -1,4 +1,4 @@
-// windfdi-ice-detect: ice accretion and shedding from the estimated rotor inertia (seed 003).
+// windfdi-ice-detect: ice accretion and shedding from the estimated rotor inertia (Stotsky & Egardt 2013).
 #include "ice_service.hpp"
 
 int main(int argc, char** argv) {

@@ -1,4 +1,4 @@
-// windfdi-pitch-diag: pitch-actuator fault diagnosis by model identification (seed 002).
+// windfdi-pitch-diag: pitch-actuator fault diagnosis by model identification (Wu & Li).
 #include "pitch_service.hpp"
 
 int main(int argc, char** argv) {

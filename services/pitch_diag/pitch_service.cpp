@@ -64,7 +64,7 @@ ServiceSpec pitch_diag_spec() {
   auto config = std::make_shared<PitchDiagConfig>();
   ServiceSpec spec;
   spec.name = "pitch_diag";
-  spec.description = "Pitch-actuator fault diagnosis by model identification (Wu & Li, MIFG; seed 002)";
+  spec.description = "Pitch-actuator fault diagnosis by model identification (Wu & Li, MIFG)";
   // The contract's columns first (omega_n, zeta, class), then the fault indicator and the excitation flag.
   spec.estimate_columns = {"omega_n_1", "omega_n_2", "omega_n_3", "zeta_1",    "zeta_2",
                            "zeta_3",    "class_1",   "class_2",   "class_3",   "alpha_1",

@@ -1,4 +1,4 @@
-// windfdi-sensor-bias: speed and pitch sensor-bias estimation with a quadratic-boundedness observer (seed 001).
+// windfdi-sensor-bias: speed and pitch sensor-bias estimation with a quadratic-boundedness observer (Witczak et al.).
 #include "sensor_bias_service.hpp"
 
 int main(int argc, char** argv) {

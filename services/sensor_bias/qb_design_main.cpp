@@ -1,4 +1,4 @@
-// windfdi-qb-design: solves the quadratic-boundedness LMI (seed 001 Theorem 1, eq 19, or the observer form) with
+// windfdi-qb-design: solves the quadratic-boundedness LMI (Witczak et al. Theorem 1, eq 19, or the observer form) with
 // CSDP, searches alpha in (0, 1), and writes the gain file K = P^-1 U (eq 30) that windfdi-sensor-bias loads.
 #include <cstdio>
 #include <cstring>
@@ -15,7 +15,7 @@ namespace {
 
 void usage() {
   std::cout << "usage: windfdi-qb-design DESIGN.yaml [--out GAINS.yaml] [--alpha A]\n"
-               "  Solves the LMI of seed 001 (structure: paper, eq 19) or of the bias-augmented observer\n"
+               "  Solves the LMI of Witczak et al. (structure: paper, eq 19) or of the bias-augmented observer\n"
                "  (structure: observer) for a fixed alpha (--alpha or 'alpha:' in the file) or searches alpha in\n"
                "  (0, 1); prints alpha, K = P^-1 U, P, the invariant-set size, and writes the gain file.\n"
                "  --zero-gain writes the discretised model with K = 0 and no certificate (paper mode only).\n"
@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
     in.alpha = alpha;
   }
   if (zero_gain) {
-    // Paper mode only: the discretised model with K = 0 and no QB certificate (errata 001: K is irrelevant there).
+    // Paper mode only: the discretised model with K = 0 and no QB certificate (docs/papers.md, Witczak et al.: K is irrelevant there).
     QbSolution z;
     z.K = Eigen::MatrixXd::Zero(in.problem.A.rows(), in.problem.C.rows());
     z.P = Eigen::MatrixXd::Identity(in.problem.A.rows(), in.problem.A.rows());

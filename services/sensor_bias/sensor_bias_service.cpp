@@ -51,7 +51,7 @@ ServiceSpec sensor_bias_spec() {
   ServiceSpec spec;
   spec.name = "sensor_bias";
   spec.description =
-      "Speed and pitch sensor biases with a quadratic-boundedness observer (Witczak, Pazera, Puig, Mrugalski, seed 001)";
+      "Speed and pitch sensor biases with a quadratic-boundedness observer (Witczak, Pazera, Puig, Mrugalski)";
   // The replay contract's five columns first, then the corrected measurements, the bound ratio and the input used.
   spec.estimate_columns = {"bias_rotor_speed", "bias_generator_speed", "bias_pitch_1", "bias_pitch_2", "bias_pitch_3",
                            "corrected_rotor_speed", "corrected_generator_speed", "corrected_pitch_1",

@@ -1,4 +1,4 @@
-// DDS-Security (issue 10) with real processes on a private domain: credentials made by
+// DDS-Security with real processes on a private domain: credentials made by
 // deploy/security/make_credentials.sh in a temp dir; every executable refuses bad credentials at start (exit
 // 2, the file named); the secured pipeline still detects a fault end to end; a participant without
 // credentials or with another farm's credentials sees no endpoint and no frame; a diagnostic role cannot
@@ -32,7 +32,7 @@ json summary(const ChildProcess& p) {
 
 bool has(const std::string& text, const std::string& s) { return text.find(s) != std::string::npos; }
 
-// Shared-memory port files of `domain` (FASTDDS_NOTES.md: ports 7400 + 250 * domain + offset).
+// Shared-memory port files of `domain` (docs/fastdds.md: ports 7400 + 250 * domain + offset).
 int shm_port_files(int domain) {
   int n = 0;
   std::error_code ec;

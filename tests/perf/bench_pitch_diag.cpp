@@ -1,4 +1,4 @@
-// Throughput of the seed 002 (Wu & Li) pitch_diag kernel: blade-samples per second per core, per method and
+// Throughput of the Wu & Li pitch_diag kernel: blade-samples per second per core, per method and
 // innovation length p (Table 3 of the paper timed the same sweep p = 1 .. 32).
 #include <benchmark/benchmark.h>
 

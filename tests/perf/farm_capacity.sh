@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Farm capacity (issue 9 point 5): the largest number of turbines at 100 Hz that all services keep up with
+# Farm capacity: the largest number of turbines at 100 Hz that all services keep up with
 # on this machine, with CPU per turbine. For each N: the plant in real time with the default --block 10
 # simulates N turbines (healthy, 8-19 m/s); the four diagnostic services run farm-wide (no --turbine
 # filter) with their deploy/config files, plus the arbiter; everything on a private loopback domain.

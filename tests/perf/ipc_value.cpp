@@ -1,4 +1,4 @@
-// The value of the arbiter's fault-tolerant IPC (issue 8): true blade loads when blade 2's root moment sensor
+// The value of the arbiter's fault-tolerant IPC: true blade loads when blade 2's root moment sensor
 // fails (gain 1.1, stuck, intermittent, dead, gain 2) with IPC left on the strain gauges (no arbiter) versus
 // switched to the LIDAR load model after a detection-and-reaction delay, and with IPC off. Loads: the true
 // first-harmonic amplitude and a damage-equivalent load (rainflow, Woehler exponent 10 for glass-fibre

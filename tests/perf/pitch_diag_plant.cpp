@@ -1,4 +1,4 @@
-// Measures windfdi-pitch-diag's methods (seed 002 paper modes and the default) on the same plant recordings:
+// Measures windfdi-pitch-diag's methods (Wu & Li paper modes and the default) on the same plant recordings:
 // detection delay of abrupt Table 1 faults in region 3 and false alarms in healthy hours, with the
 // benchmark's 0.2 deg pitch noise. Usage: pitch_diag_plant [healthy_seconds=3600] [method ...] (default:
 // every method); VERBOSE=1 lists the runs that were missed, wrong or slower than 10 s; PITCH_DIAG_CONFIG=file

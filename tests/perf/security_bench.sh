@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# DDS-Security cost, security off versus on in the same run (issue 10):
+# DDS-Security cost, security off versus on in the same run:
 #  1. one-way latency (round trip / 2, p50 and p99) between two processes: tests/perf/security_latency;
 #  2. the most turbines windfdi-plant serves at 100 Hz in real time to one reader (windfdi-test-peer listen):
 #     N turbines "keep up" when, for every turbine, the reader (stopped SECONDS + 3 s after the plant's start)

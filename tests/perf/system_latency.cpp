@@ -1,4 +1,4 @@
-// System benchmarks (issue 9 point 5): the measuring side. Run by system_latency.sh and farm_capacity.sh,
+// System benchmarks: the measuring side. Run by system_latency.sh and farm_capacity.sh,
 // which start the plant, the four diagnostic services and the arbiter on a private loopback domain.
 //
 // --mode latency (system_latency.sh)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# End-to-end latency of the whole system (issue 9 point 5), in one run on a private loopback domain:
+# End-to-end latency of the whole system, in one run on a private loopback domain:
 # from the frame that makes a fault decidable to the FaultReport, and to the ControlConfiguration at the
 # plant (p50, p99), each as a ratio to raw Fast DDS one-way latency measured in the same run.
 #

@@ -135,7 +135,7 @@ int private_domain(int salt) {
 int remove_stale_shm(int domain) {
   int removed = 0;
   std::error_code ec;
-  // User-data and metatraffic port files: port = 7400 + 250 * domain + offsets (FASTDDS_NOTES.md).
+  // User-data and metatraffic port files: port = 7400 + 250 * domain + offsets (docs/fastdds.md).
   for (int offset = 0; offset < 250; ++offset) {
     const int port = 7400 + 250 * domain + offset;
     for (const std::string& name : std::vector<std::string>{"fastrtps_port" + std::to_string(port),

@@ -1,4 +1,4 @@
-// The fault-tolerant control arbiter's decision function (decision table: deploy/arbiter/README.md).
+// The fault-tolerant control arbiter's decision function (decision table: deploy/arbiter/DECISION_TABLE.md).
 #include "decision.hpp"
 
 #include <algorithm>
@@ -165,7 +165,7 @@ void Arbiter::apply(Cause& cause, double now, Configuration& cfg) {
   const int blade = blade_index(e.component);
 
   if (starts_with(e.component, "blade_moment_sensor_")) {
-    // Seed 000's fault-tolerant IPC: the LIDAR load model replaces a failed strain gauge.
+    // Stotsky 2014's fault-tolerant IPC: the LIDAR load model replaces a failed strain gauge.
     const bool lidar_ok = config_.has_lidar && !lost_services_.count("blade_load");
     bool lidar_faulty = false;
     for (const auto& [k, c] : causes_)

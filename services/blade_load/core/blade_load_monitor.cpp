@@ -1,4 +1,4 @@
-// Blade-root moment sensor monitoring (seed 000): estimators, residual channels, tests, classes, adaptation.
+// Blade-root moment sensor monitoring (Stotsky 2014): estimators, residual channels, tests, classes, adaptation.
 #include "blade_load_monitor.hpp"
 
 #include <algorithm>
@@ -277,7 +277,7 @@ void BladeLoadMonitor::channel_values(BladeChannels& x) const {
     if (all_models && std::isfinite(x[0][kModelChannel]) && std::isfinite(x[1][kModelChannel]) &&
         std::isfinite(x[2][kModelChannel])) {
       x[b][kWitnessChannel] = d[b] - avg_others(d, b);
-      // Mean load (SEED_ERRATA 000: an offset leaves the first harmonic unchanged), model-normalised.
+      // Mean load (docs/papers.md, Stotsky 2014: an offset leaves the first harmonic unchanged), model-normalised.
       x[b][kMeanChannel] = r[b] - avg_others(r, b);
     }
     x[b][kRawWitnessChannel] = (a_sensor_[b] - avg_others(a_sensor_, b)) / mean_all;
@@ -518,7 +518,7 @@ void BladeLoadMonitor::maybe_adapt(double t) {
   adapt_lsum_ += lambda;
   adapt_psum_ += pitch;
   if (++adapt_n_ < cfg_.adapt_revolutions) return;
-  // Uniform wind over a long segment: the model's mean load should equal the sensors' (seed 000, last section).
+  // Uniform wind over a long segment: the model's mean load should equal the sensors' (Stotsky 2014, last section).
   const double l = adapt_lsum_ / adapt_n_, p = adapt_psum_ / adapt_n_;
   const double target = table_.factor(l, p) * adapt_sensor_ / adapt_model_;
   table_.adapt(l, p, target, cfg_.adapt_gain, cfg_.adapt_sigma_lambda, cfg_.adapt_sigma_pitch, cfg_.adapt_bound);

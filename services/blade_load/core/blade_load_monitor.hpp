@@ -1,4 +1,4 @@
-// Blade-root moment sensor monitoring of one turbine (seed 000): first harmonic from each strain gauge and from
+// Blade-root moment sensor monitoring of one turbine (Stotsky 2014): first harmonic from each strain gauge and from
 // the LIDAR load model, t-tests on their difference with the other blades as a second witness, fault classes,
 // load-table adaptation in uniform wind, and the state a restart keeps.
 #pragma once
@@ -30,7 +30,7 @@ struct MonitorConfig {
   double min_rotor_speed = 0.5;     ///< rad/s; below it (standstill, idling) nothing is estimated
   double max_moment = 5e7;          ///< N m, |blade moment| above it is out of range (sensor_invalid)
   double invalid_time = 1.0;        ///< s a blade moment or the LIDAR must stay invalid before sensor_invalid
-  // Detection (seed 000: t-test per sample for outliers, moving-window mean test for drift).
+  // Detection (Stotsky 2014: t-test per sample for outliers, moving-window mean test for drift).
   double significance = 1e-8;       ///< two-sided level of the outlier t-test per 10 Hz sample (0..0.1)
   double drift_significance = 1e-8; ///< two-sided level of the moving-window mean test per revolution
   int drift_window = 10;            ///< revolutions in the moving-window mean
@@ -80,7 +80,7 @@ struct MonitorConfig {
                                         ///< amplitude residual agrees (sign and witness_significance)
   double witness_significance = 1e-2;  ///< two-sided level of that agreement
   bool mean_test = true;            ///< cross-blade mean-load test (the only one that sees an offset or drift)
-  // Load-table adaptation in uniform wind (seed 000, last section).
+  // Load-table adaptation in uniform wind (Stotsky 2014, last section).
   bool adapt = true;
   double uniform_shear = 0.04;      ///< |LIDAR shear exponent| below which the wind is uniform
   int adapt_revolutions = 20;       ///< consecutive uniform revolutions averaged for one update

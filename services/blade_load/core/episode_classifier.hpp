@@ -1,4 +1,4 @@
-// Fault-episode state machine of one blade-moment sensor (seed 000 classes): raise, return, intermittent, clear.
+// Fault-episode state machine of one blade-moment sensor (Stotsky 2014 classes): raise, return, intermittent, clear.
 #pragma once
 
 #include <string>

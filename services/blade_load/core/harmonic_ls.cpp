@@ -1,4 +1,4 @@
-// Sliding-window harmonic least squares (seed 000 eqs 3-8) with the SDD / partitioned (Appendix) solves.
+// Sliding-window harmonic least squares (Stotsky 2014 eqs 3-8) with the SDD / partitioned (Appendix) solves.
 #include "harmonic_ls.hpp"
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// Sliding-window least squares with a harmonic regressor (Stotsky 2014, seed 000, eqs 3-8 and Appendix).
+// Sliding-window least squares with a harmonic regressor (Stotsky 2014, eqs 3-8 and Appendix).
 #pragma once
 
 #include <Eigen/Dense>
@@ -10,7 +10,7 @@ namespace windfdi::blade_load {
 
 /// Regressor of eq 4. kPaper: cos(h w_k k), h = 1..d, at the discretised speed w_k (rad/sample) and step
 /// number k, phase assumed 0 (the paper's method, kept to reproduce it). kAzimuth (default): cosine AND
-/// sine of h times the blade's measured azimuth (SEED_ERRATA 000: the phase is unknown in practice).
+/// sine of h times the blade's measured azimuth (docs/papers.md, Stotsky 2014: the phase is unknown in practice).
 enum class RegressorMode { kAzimuth, kPaper };
 
 constexpr int kMaxHarmonics = 8;

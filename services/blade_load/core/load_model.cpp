@@ -1,4 +1,4 @@
-// LIDAR load model (seed 000 eqs 1, 9) and its look-up table with bounded adaptation.
+// LIDAR load model (Stotsky 2014 eqs 1, 9) and its look-up table with bounded adaptation.
 #include "load_model.hpp"
 
 #include <algorithm>
@@ -117,7 +117,7 @@ double LoadTable::factor(double lambda, double pitch_deg) const { return bilinea
 
 void LoadTable::adapt(double lambda, double pitch_deg, double target, double gain, double sl, double sp,
                       double bound) {
-  // The surface moves only near the operating point where data were gathered (seed 000: "the part of the
+  // The surface moves only near the operating point where data were gathered (Stotsky 2014: "the part of the
   // surface parameters is adapted"), each node by at most `gain` of the way per update and within bounds.
   const int i0 = std::max(0, static_cast<int>(std::floor((lambda - 3 * sl - l0_) / dl_)));
   const int i1 = std::min(nl_ - 1, static_cast<int>(std::ceil((lambda + 3 * sl - l0_) / dl_)));

@@ -1,4 +1,4 @@
-// The LIDAR-driven blade load model of seed 000 (eq 1, eq 9): look-up table k_M(lambda, beta), expected blade
+// The LIDAR-driven blade load model of Stotsky 2014 (eq 1, eq 9): look-up table k_M(lambda, beta), expected blade
 // winds from two delayed LIDAR speeds (frozen turbulence), and the table's bounded adaptation in uniform wind.
 #pragma once
 
@@ -27,7 +27,7 @@ class LoadTable {
   /// The learned correction (1 = as shipped) interpolated at a point.
   double factor(double lambda, double pitch_deg) const;
   /// Moves the correction near (lambda, pitch) toward `target_factor` by `gain` (0..1) with Gaussian weights
-  /// of width (sigma_lambda, sigma_pitch), each node bounded to 1 +/- bound (seed 000, "Adaptation").
+  /// of width (sigma_lambda, sigma_pitch), each node bounded to 1 +/- bound (Stotsky 2014, "Adaptation").
   void adapt(double lambda, double pitch_deg, double target_factor, double gain, double sigma_lambda,
              double sigma_pitch, double bound);
 

@@ -1,4 +1,4 @@
-// Student-t distribution and healthy statistics for the blade-load tests (seed 000, outlier and drift t-tests).
+// Student-t distribution and healthy statistics for the blade-load tests (Stotsky 2014, outlier and drift t-tests).
 #include "statistics.hpp"
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// Student-t quantiles and the healthy distribution of a monitored residual (seed 000, "Monitoring ... outlier
+// Student-t quantiles and the healthy distribution of a monitored residual (Stotsky 2014, "Monitoring ... outlier
 // detection"): the point t-test for outliers and the moving-window mean test for drift.
 #pragma once
 

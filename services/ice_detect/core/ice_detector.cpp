@@ -1,4 +1,4 @@
-// Ice accretion and shedding from the estimated inertia (seed 003).
+// Ice accretion and shedding from the estimated inertia (Stotsky & Egardt 2013).
 #include "ice_detector.hpp"
 
 #include <algorithm>

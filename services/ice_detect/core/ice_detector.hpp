@@ -1,4 +1,4 @@
-// Ice accretion and shedding on one turbine's rotor from its estimated inertia (seed 003).
+// Ice accretion and shedding on one turbine's rotor from its estimated inertia (Stotsky & Egardt 2013).
 #pragma once
 
 #include <deque>

@@ -1,4 +1,4 @@
-// Data-driven estimate of a wind turbine's lumped inertia (seed 003, eqs 3-7).
+// Data-driven estimate of a wind turbine's lumped inertia (Stotsky & Egardt 2013, eqs 3-7).
 #include "inertia_estimator.hpp"
 
 #include <algorithm>

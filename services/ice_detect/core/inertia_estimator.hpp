@@ -1,4 +1,4 @@
-// Data-driven estimate of a wind turbine's lumped inertia (Stotsky & Egardt 2013, seed 003, eqs 3-7).
+// Data-driven estimate of a wind turbine's lumped inertia (Stotsky & Egardt 2013, eqs 3-7).
 #pragma once
 
 #include <cstdint>
@@ -21,7 +21,7 @@ struct EstimatorConfig {
   double power_step = 0.01;         ///< relative step of that balance from the calibration that restarts both (0: off)
   double power_step_sigmas = 5.0;   ///< ... and at least this many times its RMS wandering
   double power_wander_time = 1800.0;  ///< s, time constant of that RMS
-  double friction = 45.6;           ///< b (N m s/rad): generator-side friction (seed 001 Table I B_g)
+  double friction = 45.6;           ///< b (N m s/rad): generator-side friction (Witczak et al. Table I B_g)
   double nominal_inertia = 6484.0;  ///< kg m^2 generator side: prior for the excitation measure
 };
 

@@ -1,4 +1,4 @@
-// Seed 002 (Wu & Li): MIFG (eqs 16-19), RLS with forgetting, auxiliary-model forms, path bank, eq 20 gate.
+// Wu & Li: MIFG (eqs 16-19), RLS with forgetting, auxiliary-model forms, path bank, eq 20 gate.
 #include "identifier.hpp"
 
 #include <Eigen/Cholesky>

@@ -1,4 +1,4 @@
-// Per-blade identification kernel of seed 002 (Wu & Li): MIFG (eqs 16-19), RLS with forgetting, their
+// Per-blade identification kernel of Wu & Li: MIFG (eqs 16-19), RLS with forgetting, their
 // auxiliary-model (output-error) forms and a likelihood bank along the Table 1 fault paths; eq 20 gate.
 #pragma once
 
@@ -13,7 +13,7 @@ namespace windfdi::pitch_diag {
 
 /// Identification method. Paper modes regress on the measured output (equation error, eqs 9-10); the
 /// auxiliary-model modes regress on the model's own simulated output driven by the reference (output error),
-/// which stays unbiased with pitch noise (SEED_ERRATA 002).
+/// which stays unbiased with pitch noise (docs/papers.md, Wu & Li).
 enum class Method {
   kPaperMifg,  ///< eqs 16-19 on phi = [-y(t-1), -y(t-2), u(t-1), u(t-2)]
   kPaperRls,   ///< recursive least squares with forgetting on the same regressor

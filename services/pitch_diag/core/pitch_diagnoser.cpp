@@ -1,4 +1,4 @@
-// Seed 002 (Wu & Li) pitch-actuator diagnoser: per-blade identification, classification along the fault paths
+// Wu & Li pitch-actuator diagnoser: per-blade identification, classification along the fault paths
 // of eqs 11-13, confirmation and hysteresis, input validation, and the YAML loader.
 #include "pitch_diagnoser.hpp"
 
@@ -176,7 +176,7 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<PitchEvent>& events) 
   }
   if (cls_.ambiguous) {
     // Two paths explain the point: one signature lies on the other's path (Table 1: pump wear sits at alpha
-    // 0.50 of hydraulic leakage, SEED_ERRATA 002), so the dynamics cannot tell them apart. What can: how the
+    // 0.50 of hydraulic leakage, docs/papers.md, Wu & Li), so the dynamics cannot tell them apart. What can: how the
     // blade got there. Reaching the shorter path's signature abruptly from healthy is that fault; drifting
     // along the shared path is the longer path's fault developing. Both hypotheses stay in the report.
     auto reach = [&](const std::string& name) {

@@ -1,4 +1,4 @@
-// Per-turbine pitch-actuator diagnoser of seed 002 (Wu & Li): identification per blade (identifier.hpp), the
+// Per-turbine pitch-actuator diagnoser of Wu & Li: identification per blade (identifier.hpp), the
 // Table 1 classification with the fault indicator alpha of eqs 11-13, confirmation, hysteresis and events.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Seed 002 (Wu & Li): exact ZOH mapping of the second-order pitch actuator and the fault-path classifier.
+// Wu & Li: exact ZOH mapping of the second-order pitch actuator and the fault-path classifier.
 #include "pitch_model.hpp"
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// Second-order pitch-actuator model of seed 002 (Wu & Li, MIFG pitch diagnosis): exact ZOH theta <->
+// Second-order pitch-actuator model of Wu & Li (MIFG pitch diagnosis): exact ZOH theta <->
 // (omega_n, zeta) and classification against the Table 1 fault signatures along the fault paths of eqs 11-13.
 #pragma once
 
@@ -9,7 +9,7 @@
 namespace windfdi::pitch_diag {
 
 /// Discrete model y(t) = -a1 y(t-1) - a2 y(t-2) + b1 u(t-1) + b2 u(t-2): theta = [a1, a2, b1, b2] (eq 10 with
-/// the b2 term of the exact ZOH discretisation; SEED_ERRATA 002).
+/// the b2 term of the exact ZOH discretisation; docs/papers.md, Wu & Li).
 using Theta = Eigen::Vector4d;
 
 /// The continuous actuator beta/beta_ref = omega_n^2 / (s^2 + 2 zeta omega_n s + omega_n^2) (eq 6).

@@ -1,4 +1,4 @@
-// One turbine's speed and pitch sensor-bias estimation and detection (seed 001): drive-train and pitch observers.
+// One turbine's speed and pitch sensor-bias estimation and detection (Witczak et al.): drive-train and pitch observers.
 #include "bias_estimator.hpp"
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// One turbine's speed and pitch sensor-bias estimation and detection (seed 001): drive-train and pitch observers.
+// One turbine's speed and pitch sensor-bias estimation and detection (Witczak et al.): drive-train and pitch observers.
 #pragma once
 
 #include <array>
@@ -46,7 +46,7 @@ struct BiasConfig {
   /// Observer mode: a pitch sensor is flagged only when the static offset of the blade confirms it with the
   /// same sign and at least this share of the threshold. The offset b comes from (pitch - reference) = b -
   /// tau d(reference)/dt fitted by least squares over pitch_offset_time: the actuator's lag (tau 0.1 s
-  /// healthy, 0.5 s leaking) is taken by the rate term, and an actuator fault keeps static gain 1 (seed 002
+  /// healthy, 0.5 s leaking) is taken by the rate term, and an actuator fault keeps static gain 1 (Wu & Li
   /// Table 1 changes omega_n and zeta only), while a sensor bias, gain or stuck reading shifts b. 0: off.
   double pitch_offset_confirm = 0.6;
   double pitch_offset_time = 3.0;      ///< s, forgetting time constant of that fit

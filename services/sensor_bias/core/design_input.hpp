@@ -11,7 +11,7 @@
 
 namespace windfdi::sensor_bias {
 
-/// A design request as read from a design YAML (documented in deploy/sensor_bias/README.md).
+/// A design request as read from a design YAML (documented in services/sensor_bias/README.md).
 struct DesignInput {
   std::string name;                 ///< free text, copied to the gain file
   std::string subsystem = "generic";  ///< drive_train, pitch or generic

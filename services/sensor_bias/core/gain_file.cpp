@@ -24,7 +24,7 @@ void write_matrix(std::ostringstream& o, const char* key, const Eigen::MatrixXd&
 
 std::string gain_file_text(const DesignInput& in, const QbSolution& sol, const std::string& source) {
   std::ostringstream o;
-  o << "# Observer gain from windfdi-qb-design (seed 001 quadratic boundedness, K = P^-1 U, eq 30).\n";
+  o << "# Observer gain from windfdi-qb-design (Witczak et al. quadratic boundedness, K = P^-1 U, eq 30).\n";
   o << "# Design input: " << source << ". Do not edit by hand: re-run the design.\n";
   o << "name: " << in.name << "\n";
   o << "subsystem: " << in.subsystem << "\n";

@@ -1,4 +1,4 @@
-// Discrete-time drive-train and pitch models of seed 001 (eqs 31-40), their bias-augmented forms, and discretisation.
+// Discrete-time drive-train and pitch models of Witczak et al. (eqs 31-40), their bias-augmented forms, and discretisation.
 #include "lti_models.hpp"
 
 #include <unsupported/Eigen/MatrixFunctions>
@@ -11,7 +11,7 @@ void drive_train_continuous(const TurbineParams& p, double aero_damping, Eigen::
                bdt = p.drive_train_damping, br = p.rotor_friction, bg = p.generator_friction,
                eta = p.drive_train_efficiency;
   A.resize(3, 3);
-  // Seed 001 eq 31 (plus the design-only aerodynamic damping), eq 32, eq 33.
+  // Witczak et al. eq 31 (plus the design-only aerodynamic damping), eq 32, eq 33.
   A << -(bdt + br + aero_damping) / jr, bdt / (n * jr), -k / jr,  //
       eta * bdt / (n * jg), -(eta * bdt / (n * n * jg) + bg / jg), eta * k / (n * jg),  //
       1.0, -1.0 / n, 0.0;

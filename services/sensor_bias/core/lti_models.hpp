@@ -1,4 +1,4 @@
-// Discrete-time drive-train and pitch models of seed 001 (eqs 31-40), their bias-augmented forms, and discretisation.
+// Discrete-time drive-train and pitch models of Witczak et al. (eqs 31-40), their bias-augmented forms, and discretisation.
 #pragma once
 
 #include <Eigen/Dense>
@@ -14,12 +14,12 @@ struct DiscreteModel {
   double sample_time = 0.01;  ///< s
 };
 
-/// Continuous-time drive train of seed 001 eqs 31-33: x = [omega_r, omega_g, theta_delta], u = [T_aero, T_g],
+/// Continuous-time drive train of Witczak et al. eqs 31-33: x = [omega_r, omega_g, theta_delta], u = [T_aero, T_g],
 /// y = [omega_r, omega_g]. `aero_damping` (N m s/rad, >= 0) adds -k_a omega_r / J_r to eq 31: the linearised
 /// dependence of the aerodynamic torque on rotor speed, used only for the gain design (see README).
 void drive_train_continuous(const TurbineParams& p, double aero_damping, Eigen::MatrixXd& A, Eigen::MatrixXd& B,
                             Eigen::MatrixXd& C);
-/// Continuous-time pitch actuator, eq 34 with the -omega_n^2 beta term it lacks (errata 001):
+/// Continuous-time pitch actuator, eq 34 with the -omega_n^2 beta term it lacks (docs/papers.md, Witczak et al.):
 /// x = [beta, beta_dot], u = beta_ref, y = beta (deg).
 void pitch_continuous(double omega_n, double zeta, Eigen::MatrixXd& A, Eigen::MatrixXd& B, Eigen::MatrixXd& C);
 

@@ -1,11 +1,11 @@
-// Fixed-size estimators of seed 001: the paper's bias estimator (eqs 5 + 8) and the bias-augmented observer.
+// Fixed-size estimators of Witczak et al.: the paper's bias estimator (eqs 5 + 8) and the bias-augmented observer.
 #pragma once
 
 #include <Eigen/Dense>
 
 namespace windfdi::sensor_bias {
 
-/// Seed 001 eqs 5 and 8 on x+ = A x + B u, y = C x + f:
+/// Witczak et al. eqs 5 and 8 on x+ = A x + B u, y = C x + f:
 ///   f_k = y_k - C A x_{k-1} - C B u_{k-1}              (eq 5)
 ///   x_{k+1} = A x_k + B u_k + K (y_k - C x_k - f_k)     (eq 8)
 /// Errata 001: y cancels in eq 8, so x is an open-loop simulation and f is "measurement minus prediction".

@@ -1,4 +1,4 @@
-// Quadratic-boundedness gain design with CSDP (seed 001 Theorem 1, eq 19; observer form of Alessandri et al. 2006).
+// Quadratic-boundedness gain design with CSDP (Witczak et al. Theorem 1, eq 19; observer form of Alessandri et al. 2006).
 #include "qb_design.hpp"
 
 #include <unistd.h>

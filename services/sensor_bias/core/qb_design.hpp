@@ -1,4 +1,4 @@
-// Quadratic-boundedness gain design (seed 001 Theorem 1, eq 19, and the observer form of Alessandri et al. 2006)
+// Quadratic-boundedness gain design (Witczak et al. Theorem 1, eq 19, and the observer form of Alessandri et al. 2006)
 // solved with CSDP for a fixed alpha, with a search over alpha in (0, 1); K = P^-1 U (eq 30).
 #pragma once
 
@@ -52,7 +52,7 @@ Eigen::MatrixXd qb_lmi(const QbProblem& q, double alpha, const Eigen::MatrixXd& 
                        const Eigen::MatrixXd& U);
 
 /// For the paper structure every eigenvalue of A is an eigenvalue of the error dynamics (eq 12) whatever K
-/// (errata 001), so QB needs alpha < 1 - rho(A)^2. Returns that bound (1 for the observer structure).
+/// (docs/papers.md, Witczak et al.), so QB needs alpha < 1 - rho(A)^2. Returns that bound (1 for the observer structure).
 double qb_alpha_upper_bound(const QbProblem& q);
 
 /// Solves the LMI for a fixed alpha (CSDP, stdout suppressed).

@@ -1,4 +1,4 @@
-// blade_load tests: seed 000's Appendix example, harmonic least squares on synthetic and plant signals, the
+// blade_load tests: Stotsky 2014's Appendix example, harmonic least squares on synthetic and plant signals, the
 // t-tests, persistence, adaptation, and fault detection on the plant.
 #include <gtest/gtest.h>
 

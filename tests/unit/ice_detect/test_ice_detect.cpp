@@ -1,4 +1,4 @@
-// ice_detect tests: the estimator of seed 003 against known inertia, on the two-mass plant, and the detector.
+// ice_detect tests: the estimator of Stotsky & Egardt 2013 against known inertia, on the two-mass plant, and the detector.
 #include <gtest/gtest.h>
 
 #include <cmath>

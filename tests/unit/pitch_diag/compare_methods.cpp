@@ -1,4 +1,4 @@
-// Measures the seed 002 (Wu & Li) identification methods on the same synthetic data: omega_n / zeta error,
+// Measures the Wu & Li identification methods on the same synthetic data: omega_n / zeta error,
 // classification accuracy and detection delay per method and noise level (README.md of the core records it).
 #include <cmath>
 #include <cstdio>

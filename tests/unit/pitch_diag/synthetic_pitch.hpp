@@ -1,4 +1,4 @@
-// Synthetic above-rated pitch data for the seed 002 (Wu & Li) tests: a moving pitch reference and a
+// Synthetic above-rated pitch data for the Wu & Li tests: a moving pitch reference and a
 // rate-limited second-order hydraulic actuator integrated finely (not the identifier's own ZOH model).
 #pragma once
 

@@ -1,4 +1,4 @@
-// pitch_diag core tests (seed 002, Wu & Li, MIFG pitch-actuator diagnosis): ZOH mapping, identification,
+// pitch_diag core tests (Wu & Li, MIFG pitch-actuator diagnosis): ZOH mapping, identification,
 // classification with alpha, the paper's p = 8 vs p = 1 claim, and the diagnoser on synthetic 0.2 deg data.
 #include <gtest/gtest.h>
 
@@ -194,7 +194,7 @@ TEST(Identifier, OutputErrorModeConvergesOffThePaths) {
 }
 
 TEST(Identifier, PaperModeFailsAtPitchNoiseAndDefaultDoesNot) {
-  // GIVEN hydraulic leakage with 0.2 deg pitch noise (SEED_ERRATA 002)
+  // GIVEN hydraulic leakage with 0.2 deg pitch noise (docs/papers.md, Wu & Li)
   const auto& hl = table1("hydraulic_leakage");
   double ez_paper, ez_bank;
   const double ew_paper = converged_error(Method::kPaperRls, hl.omega_n, hl.zeta, 0.2, ez_paper);
@@ -334,7 +334,7 @@ TEST(PitchDiagnoser, HealthyHourRaisesNothing) {
 
 TEST(PitchDiagnoser, ConstantSensorOffsetRaisesNothing) {
   // GIVEN a +3 deg pitch-sensor offset on every blade from the start, and a +2 deg step offset appearing on
-  // blade 3 at t = 60 s (seed 001's pitch sensor bias), healthy actuators, 0.2 deg noise
+  // blade 3 at t = 60 s (Witczak et al.'s pitch sensor bias), healthy actuators, 0.2 deg noise
   Rig rig(PitchDiagConfig{}, 0.2, 55, 3.0);
   rig.run(300.0, healthy, [&](FrameSample& s) {
     if (s.t >= 60.0) s.pitch[2] += 2.0;

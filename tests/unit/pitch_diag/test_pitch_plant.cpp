@@ -1,4 +1,4 @@
-// pitch_diag on the plant (seed 002 default mode): the benchmark turbine's own pitch loop in turbulent wind
+// pitch_diag on the plant (Wu & Li default mode): the benchmark turbine's own pitch loop in turbulent wind
 // with 0.2 deg pitch noise, every Table 1 fault on every blade, a half-developed leakage, a pitch-sensor
 // offset and a healthy hour.
 #include <gtest/gtest.h>

@@ -137,7 +137,7 @@ TEST_P(PitchStep, StepResponseMatchesOmegaNAndZetaWithinTwoPercent) {
   EXPECT_NEAR(overshoot, std::exp(-c.zeta * M_PI / std::sqrt(1 - c.zeta * c.zeta)), 0.002);
 }
 
-// Seed 002 Table 1: healthy and the three faults.
+// Wu & Li Table 1: healthy and the three faults.
 INSTANTIATE_TEST_SUITE_P(Table1, PitchStep,
                          ::testing::Values(ActuatorCase{"healthy", 11.11, 0.6}, ActuatorCase{"pump_wear", 7.27, 0.75},
                                            ActuatorCase{"hydraulic_leakage", 3.42, 0.9},
@@ -280,7 +280,7 @@ INSTANTIATE_TEST_SUITE_P(
         FaultCase{"invalid", "pitch_2", "invalid", 0, 1, 0, [](double, double) { return std::nan(""); }},
         FaultCase{"bias_paper", "rotor_speed", "bias_paper", 0, 1, 0,
                   [](double v, double s) {
-                    const double k = std::floor(s / 0.01 + 1e-6);  // seed 001 eq 41, amplitude 0.02
+                    const double k = std::floor(s / 0.01 + 1e-6);  // Witczak et al. eq 41, amplitude 0.02
                     return v + 0.02 * (v * std::sin(k / 500) + v * std::sin(k / 1000) + v);
                   }}),
     [](const auto& i) { return std::string(i.param.name); });

@@ -1,4 +1,4 @@
-// sensor_bias tests: seed 001's estimator on its printed model, the QB LMI design, and the default observer on the plant.
+// sensor_bias tests: Witczak et al.'s estimator on its printed model, the QB LMI design, and the default observer on the plant.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -55,7 +55,7 @@ Eigen::Matrix<double, M, 1> paper_run(const DiscreteModel& m, const Eigen::Matri
 
 Eigen::Vector3d dt_steady() {
   // Printed eq 35-36 hold omega_g = 100 omega_r and theta = 0 in steady state; omega_g 162 rad/s needs
-  // T_g = row 2 balance / B(2,2) (about -7.6 kN m, errata 001).
+  // T_g = row 2 balance / B(2,2) (about -7.6 kN m, docs/papers.md, Witczak et al.).
   const DiscreteModel m = paper_drive_train();
   const Eigen::Vector3d x(1.62, 162.0, 0.0);
   return x;
@@ -88,7 +88,7 @@ TEST(PaperMode, PrintedModelsMeetThePapersBiasErrors) {
 }
 
 TEST(PaperMode, TheGainDoesNotMatterAndBenchmarkNoiseGoesStraightThrough) {
-  // GIVEN the printed pitch model with K = K_p and with K = 0 (errata 001: y cancels in eq 8)
+  // GIVEN the printed pitch model with K = K_p and with K = 0 (docs/papers.md, Witczak et al.: y cancels in eq 8)
   const DiscreteModel p = paper_pitch();
   auto in = [](int k) { return Eigen::Matrix<double, 1, 1>(10.0 + 3.0 * std::sin(k / 700.0)); };
   const auto with_k = paper_run<2, 1, 1>(p, paper_K_pitch(), 0.05, Eigen::Vector2d(10.0, 0.0), in, 1e-3);
