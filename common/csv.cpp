@@ -36,8 +36,8 @@ CsvReader::CsvReader(const std::string& path) : path_(path), source_(std::make_u
   split(line);
   header_ = fields_;
   for (std::size_t i = 0; i < header_.size(); ++i) {
-    if (header_[i].empty()) throw ConfigError(path, 1, "", "empty column name in header at column " +
-                                                               std::to_string(i + 1));
+    if (header_[i].empty())
+      throw ConfigError(path, 1, "", "empty column name in header at column " + std::to_string(i + 1));
     if (!index_.emplace(header_[i], static_cast<int>(i)).second)
       throw ConfigError(path, 1, header_[i], "column appears twice in the header");
   }

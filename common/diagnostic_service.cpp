@@ -67,27 +67,26 @@ int run_replay_mode(const ServiceSpec& spec, const ReplayOptions& options, const
   const auto context_events = read_context_events(context_file);
   std::size_t next_context = 0;
   std::map<std::string, InputContextTracker> contexts;
-  const auto stats = run_replay(options, spec.estimate_columns,
-                                [&](const std::string& id, const FrameSample& s, bool gap, ReplaySink& sink) {
-                                  auto& d = turbines[id];
-                                  if (!d) d = spec.make(id);
-                                  for (; next_context < context_events.size() &&
-                                         context_events[next_context].t <= s.t;
-                                       ++next_context) {
-                                    const FaultEvent& e = context_events[next_context];
-                                    auto& tracker =
-                                        contexts.try_emplace(e.turbine_id, spec.name).first->second;
-                                    if (!tracker.on_fault(e)) continue;
-                                    const auto it = turbines.find(e.turbine_id.empty() ? id : e.turbine_id);
-                                    if (it != turbines.end() && it->second)
-                                      it->second->set_context(tracker.context(), s.t);
-                                  }
-                                  return feed(
-                                      spec, id, *d, s, gap, [&](FaultEvent& e) { sink.event(e); },
-                                      [&] { sink.estimate(s.t, id, last_values()); });
-                                });
+  const auto stats =
+      run_replay(options, spec.estimate_columns,
+                 [&](const std::string& id, const FrameSample& s, bool gap, ReplaySink& sink) {
+                   auto& d = turbines[id];
+                   if (!d) d = spec.make(id);
+                   for (; next_context < context_events.size() && context_events[next_context].t <= s.t;
+                        ++next_context) {
+                     const FaultEvent& e = context_events[next_context];
+                     auto& tracker = contexts.try_emplace(e.turbine_id, spec.name).first->second;
+                     if (!tracker.on_fault(e)) continue;
+                     const auto it = turbines.find(e.turbine_id.empty() ? id : e.turbine_id);
+                     if (it != turbines.end() && it->second) it->second->set_context(tracker.context(), s.t);
+                   }
+                   return feed(
+                       spec, id, *d, s, gap, [&](FaultEvent& e) { sink.event(e); },
+                       [&] { sink.estimate(s.t, id, last_values()); });
+                 });
   spdlog::info("replay of {}: {} samples, {} rejected, {} lost (sequence gaps), {} estimates, {} events",
-               options.frames, stats.samples, stats.rejected, stats.sequence_gaps, stats.estimates, stats.events);
+               options.frames, stats.samples, stats.rejected, stats.sequence_gaps, stats.estimates,
+               stats.events);
   return kExitOk;
 }
 
@@ -148,7 +147,8 @@ int run_node(const ServiceSpec& spec, const CommonOptions& common) {
 }  // namespace
 
 TurbineParams configured_turbine(const YamlSection& config) {
-  return load_turbine_params_file(config.get_path("turbine_file", deploy_dir() + "/turbine/benchmark_4.8MW.yaml"));
+  return load_turbine_params_file(
+      config.get_path("turbine_file", deploy_dir() + "/turbine/benchmark_4.8MW.yaml"));
 }
 
 int run_diagnostic_service(int argc, char** argv, const ServiceSpec& spec) {

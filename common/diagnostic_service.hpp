@@ -38,10 +38,10 @@ class TurbineDiagnoser {
 using EstimatePublisher = std::function<void(const std::string& turbine_id, double t, TurbineDiagnoser& d)>;
 
 struct ServiceSpec {
-  std::string name;                            ///< canonical service name, e.g. "pitch_diag"
-  std::string description;                     ///< one line for --help
-  std::vector<std::string> estimate_columns;   ///< replay estimate columns after t and turbine_id
-  bool wants_lidar = false;                    ///< merge wt/lidar into the samples
+  std::string name;                           ///< canonical service name, e.g. "pitch_diag"
+  std::string description;                    ///< one line for --help
+  std::vector<std::string> estimate_columns;  ///< replay estimate columns after t and turbine_id
+  bool wants_lidar = false;                   ///< merge wt/lidar into the samples
   /// Reads the service's configuration (without --config an empty section: every key at its default).
   /// Called once, before make().
   std::function<void(const YamlSection& config)> configure;

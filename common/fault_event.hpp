@@ -2,24 +2,23 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
-
 #include <string>
 
 namespace windfdi {
 
 /// One raised or cleared fault of one component, in the canonical names of docs/architecture.md.
 struct FaultEvent {
-  double t = 0.0;               ///< time of this report (s, measurement time)
+  double t = 0.0;  ///< time of this report (s, measurement time)
   std::string turbine_id;
-  std::string source;           ///< service name, e.g. "pitch_diag"
-  std::string component;        ///< e.g. "pitch_actuator_2"
-  std::string fault;            ///< canonical fault class, e.g. "hydraulic_leakage"
-  bool raised = true;           ///< false: cleared
+  std::string source;              ///< service name, e.g. "pitch_diag"
+  std::string component;           ///< e.g. "pitch_actuator_2"
+  std::string fault;               ///< canonical fault class, e.g. "hydraulic_leakage"
+  bool raised = true;              ///< false: cleared
   std::string severity = "fault";  ///< info, warning, fault or critical
-  double t_detected = 0.0;      ///< when the fault was first detected (s)
-  double statistic = 0.0;       ///< the test statistic that decided
-  double threshold = 0.0;       ///< what the statistic was compared with
-  double size = 0.0;            ///< estimated fault size, in the channel's unit
+  double t_detected = 0.0;         ///< when the fault was first detected (s)
+  double statistic = 0.0;          ///< the test statistic that decided
+  double threshold = 0.0;          ///< what the statistic was compared with
+  double size = 0.0;               ///< estimated fault size, in the channel's unit
   std::string detail;
 };
 

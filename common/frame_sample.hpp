@@ -19,8 +19,8 @@ enum ValidBit : uint32_t {
   kValidPower = 1u << 3,
   kValidWindHub = 1u << 4,
   kValidAzimuth = 1u << 5,
-  kValidPitch1 = 1u << 6,  ///< pitch_1..3 are bits 6..8
-  kValidPitchRef1 = 1u << 9,  ///< pitch_ref_1..3 are bits 9..11
+  kValidPitch1 = 1u << 6,         ///< pitch_1..3 are bits 6..8
+  kValidPitchRef1 = 1u << 9,      ///< pitch_ref_1..3 are bits 9..11
   kValidBladeMoment1 = 1u << 12,  ///< blade_moment_1..3 are bits 12..14
   kValidLidar = 1u << 15,
   kValidAll = (1u << 16) - 1,
@@ -28,22 +28,22 @@ enum ValidBit : uint32_t {
 
 /// A sample of one turbine at one instant. Units are SI except pitch (deg), as in the replay contract.
 struct FrameSample {
-  uint64_t sequence = 0;          ///< consecutive per turbine; a gap means lost samples
-  double t = 0.0;                 ///< measurement time (s)
-  double rotor_speed = kNaN;      ///< rad/s
-  double generator_speed = kNaN;  ///< rad/s
-  double gen_torque = kNaN;       ///< measured generator torque (N m)
-  double gen_torque_ref = kNaN;   ///< generator torque reference (N m)
-  double power = kNaN;            ///< electrical power (W)
-  double wind_hub = kNaN;         ///< hub wind speed, nacelle anemometer (m/s)
-  double azimuth = kNaN;          ///< rotor azimuth of blade 1 (rad, 0 = up)
-  std::array<double, kBlades> pitch{kNaN, kNaN, kNaN};         ///< measured pitch angle (deg)
+  uint64_t sequence = 0;                                ///< consecutive per turbine; a gap means lost samples
+  double t = 0.0;                                       ///< measurement time (s)
+  double rotor_speed = kNaN;                            ///< rad/s
+  double generator_speed = kNaN;                        ///< rad/s
+  double gen_torque = kNaN;                             ///< measured generator torque (N m)
+  double gen_torque_ref = kNaN;                         ///< generator torque reference (N m)
+  double power = kNaN;                                  ///< electrical power (W)
+  double wind_hub = kNaN;                               ///< hub wind speed, nacelle anemometer (m/s)
+  double azimuth = kNaN;                                ///< rotor azimuth of blade 1 (rad, 0 = up)
+  std::array<double, kBlades> pitch{kNaN, kNaN, kNaN};  ///< measured pitch angle (deg)
   std::array<double, kBlades> pitch_ref{kNaN, kNaN, kNaN};     ///< pitch reference (deg)
   std::array<double, kBlades> blade_moment{kNaN, kNaN, kNaN};  ///< flapwise blade-root moment (N m)
-  double lidar_v_upper = kNaN;    ///< LIDAR upwind speed at hub height + R/2 (m/s)
-  double lidar_v_lower = kNaN;    ///< LIDAR upwind speed at hub height - R/2 (m/s)
-  double aero_torque = kNaN;      ///< replay only: aerodynamic torque when the recording has it (N m)
-  double aero_power = kNaN;       ///< replay only: aerodynamic power when the recording has it (W)
+  double lidar_v_upper = kNaN;  ///< LIDAR upwind speed at hub height + R/2 (m/s)
+  double lidar_v_lower = kNaN;  ///< LIDAR upwind speed at hub height - R/2 (m/s)
+  double aero_torque = kNaN;    ///< replay only: aerodynamic torque when the recording has it (N m)
+  double aero_power = kNaN;     ///< replay only: aerodynamic power when the recording has it (W)
   uint32_t valid_mask = kValidAll;
 };
 

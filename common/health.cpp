@@ -5,7 +5,8 @@
 
 namespace windfdi {
 
-HealthReporter::HealthReporter(bus::Participant& participant, std::string service, std::vector<std::string> turbines)
+HealthReporter::HealthReporter(bus::Participant& participant, std::string service,
+                               std::vector<std::string> turbines)
     : writer_(participant), service_(std::move(service)) {
   if (turbines.empty()) turbines.push_back("*");
   for (const auto& t : turbines) counters_[t];

@@ -19,7 +19,8 @@ struct InputContext {
   bool generator_speed_suspect = false;
   std::array<bool, 3> pitch_sensor_suspect{};    ///< measured pitch of blade i
   std::array<bool, 3> pitch_actuator_suspect{};  ///< the actuator of blade i (its measured pitch is true)
-  bool turbine_stopped = false;  ///< the arbiter holds the turbine in safe stop: its actuators are parked at feather
+  bool turbine_stopped =
+      false;  ///< the arbiter holds the turbine in safe stop: its actuators are parked at feather
   /// deg/s, the pitch rate limit the arbiter commands per blade (infinite: none seen)
   std::array<double, 3> pitch_rate_limit{kNoLimit, kNoLimit, kNoLimit};
   static constexpr double kNoLimit = std::numeric_limits<double>::infinity();

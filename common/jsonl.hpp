@@ -1,9 +1,8 @@
 // JSON Lines writer: one JSON object per line, flushed per line so a crash loses nothing written.
 #pragma once
 
-#include <nlohmann/json.hpp>
-
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <string>
 
 namespace windfdi {

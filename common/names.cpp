@@ -7,9 +7,9 @@ namespace windfdi {
 
 const std::vector<std::string>& fault_class_names() {
   static const std::vector<std::string> n = {
-      "none",           "sensor_abrupt",    "sensor_drift",  "sensor_intermittent", "sensor_bias",
-      "pump_wear",      "hydraulic_leakage", "high_air_content", "ice_accretion",    "ice_shedding",
-      "sensor_invalid", "service_lost"};
+      "none",          "sensor_abrupt", "sensor_drift",      "sensor_intermittent",
+      "sensor_bias",   "pump_wear",     "hydraulic_leakage", "high_air_content",
+      "ice_accretion", "ice_shedding",  "sensor_invalid",    "service_lost"};
   return n;
 }
 
@@ -19,11 +19,19 @@ const std::vector<std::string>& severity_names() {
 }
 
 const std::vector<std::string>& component_names() {
-  static const std::vector<std::string> n = {
-      "blade_moment_sensor_1", "blade_moment_sensor_2", "blade_moment_sensor_3", "rotor_speed_sensor",
-      "generator_speed_sensor", "pitch_sensor_1",       "pitch_sensor_2",       "pitch_sensor_3",
-      "pitch_actuator_1",      "pitch_actuator_2",      "pitch_actuator_3",     "rotor",
-      "lidar"};
+  static const std::vector<std::string> n = {"blade_moment_sensor_1",
+                                             "blade_moment_sensor_2",
+                                             "blade_moment_sensor_3",
+                                             "rotor_speed_sensor",
+                                             "generator_speed_sensor",
+                                             "pitch_sensor_1",
+                                             "pitch_sensor_2",
+                                             "pitch_sensor_3",
+                                             "pitch_actuator_1",
+                                             "pitch_actuator_2",
+                                             "pitch_actuator_3",
+                                             "rotor",
+                                             "lidar"};
   return n;
 }
 

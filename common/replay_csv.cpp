@@ -110,7 +110,8 @@ std::vector<std::string> writer_header(const std::vector<std::string>& extra) {
 FrameCsvWriter::FrameCsvWriter(const std::string& path, const std::vector<std::string>& extra_columns)
     : csv_(path, writer_header(extra_columns)), extra_columns_(extra_columns.size()) {}
 
-void FrameCsvWriter::write(const std::string& turbine_id, const FrameSample& s, const std::vector<double>& extra) {
+void FrameCsvWriter::write(const std::string& turbine_id, const FrameSample& s,
+                           const std::vector<double>& extra) {
   if (extra.size() != extra_columns_) throw std::logic_error("FrameCsvWriter: wrong number of extra values");
   csv_.add(s.t).add(turbine_id).add(std::to_string(s.sequence));
   for (const auto& c : specs()) csv_.add(field(s, c));

@@ -14,11 +14,28 @@ double TurbineParams::lumped_inertia(double extra_rotor_inertia) const {
 }
 
 TurbineParams load_turbine_params(const YamlSection& s) {
-  s.require_known_keys({"rotor_radius", "hub_height", "air_density", "gear_ratio", "rotor_inertia",
-                        "generator_inertia", "drive_train_stiffness", "drive_train_damping", "rotor_friction",
-                        "generator_friction", "drive_train_efficiency", "generator_efficiency",
-                        "converter_time_constant", "rated_power", "rated_generator_speed", "pitch_omega_n",
-                        "pitch_zeta", "pitch_rate_limit", "pitch_min", "pitch_max", "ice_radius", "ice_cp_loss",
+  s.require_known_keys({"rotor_radius",
+                        "hub_height",
+                        "air_density",
+                        "gear_ratio",
+                        "rotor_inertia",
+                        "generator_inertia",
+                        "drive_train_stiffness",
+                        "drive_train_damping",
+                        "rotor_friction",
+                        "generator_friction",
+                        "drive_train_efficiency",
+                        "generator_efficiency",
+                        "converter_time_constant",
+                        "rated_power",
+                        "rated_generator_speed",
+                        "pitch_omega_n",
+                        "pitch_zeta",
+                        "pitch_rate_limit",
+                        "pitch_min",
+                        "pitch_max",
+                        "ice_radius",
+                        "ice_cp_loss",
                         "load_radius"});
   TurbineParams p;
   p.rotor_radius = s.get_number("rotor_radius", p.rotor_radius, 1.0, 200.0);
@@ -53,9 +70,10 @@ TurbineParams load_turbine_params_file(const std::string& path) {
 
 double AeroModel::power_coefficient(double lambda, double beta) {
   if (lambda <= 0.0) return 0.0;
-  // Heier / Slootweg analytic Cp(lambda, beta). The fit is made for beta >= 0: its 0.035 / (beta^3 + 1) is singular
-  // at beta = -1 deg, which individual pitch control reaches below fine pitch. Holding that term at its beta = 0
-  // value below 0 keeps Cp smooth (C2 at 0) and thrust rising towards stall, as pitching to feather lowers it.
+  // Heier / Slootweg analytic Cp(lambda, beta). The fit is made for beta >= 0: its 0.035 / (beta^3 + 1) is
+  // singular at beta = -1 deg, which individual pitch control reaches below fine pitch. Holding that term at
+  // its beta = 0 value below 0 keeps Cp smooth (C2 at 0) and thrust rising towards stall, as pitching to
+  // feather lowers it.
   const double beta_pos = std::max(beta, 0.0);
   const double inv_li = 1.0 / (lambda + 0.08 * beta) - 0.035 / (beta_pos * beta_pos * beta_pos + 1.0);
   const double cp = 0.5176 * (116.0 * inv_li - 0.4 * beta - 5.0) * std::exp(-21.0 * inv_li) + 0.0068 * lambda;
@@ -115,7 +133,8 @@ double AeroModel::moment_coefficient(double lambda, double pitch_deg) const {
   const int j = std::min(static_cast<int>(y), n_pitch_ - 2);
   const double fx = x - i, fy = y - j;
   auto at = [&](int a, int b) { return table_[static_cast<std::size_t>(a * n_pitch_ + b)]; };
-  return (1 - fx) * ((1 - fy) * at(i, j) + fy * at(i, j + 1)) + fx * ((1 - fy) * at(i + 1, j) + fy * at(i + 1, j + 1));
+  return (1 - fx) * ((1 - fy) * at(i, j) + fy * at(i, j + 1)) +
+         fx * ((1 - fy) * at(i + 1, j) + fy * at(i + 1, j + 1));
 }
 
 }  // namespace windfdi

@@ -12,32 +12,33 @@ namespace windfdi {
 /// The 4.8 MW FDI/FTC benchmark turbine (Odgaard, Stoustrup, Kinnaert 2009); drive train and pitch values
 /// as Witczak et al. Table I. Loaded from deploy/turbine/benchmark_4.8MW.yaml.
 struct TurbineParams {
-  double rotor_radius = 57.5;          ///< m
-  double hub_height = 87.6;            ///< m
-  double air_density = 1.225;          ///< kg/m^3
-  double gear_ratio = 95.0;            ///< N_g (-)
-  double rotor_inertia = 55e6;         ///< J_r (kg m^2)
-  double generator_inertia = 390.0;    ///< J_g (kg m^2)
-  double drive_train_stiffness = 2.7e9;  ///< K_dt (N m/rad)
-  double drive_train_damping = 775.49;   ///< B_dt (N m s/rad)
-  double rotor_friction = 7.11;        ///< B_r (N m s/rad)
-  double generator_friction = 45.6;    ///< B_g (N m s/rad)
-  double drive_train_efficiency = 0.97;  ///< eta_dt (-)
-  double generator_efficiency = 0.98;  ///< eta_g: electrical power = eta_g * omega_g * T_g
+  double rotor_radius = 57.5;             ///< m
+  double hub_height = 87.6;               ///< m
+  double air_density = 1.225;             ///< kg/m^3
+  double gear_ratio = 95.0;               ///< N_g (-)
+  double rotor_inertia = 55e6;            ///< J_r (kg m^2)
+  double generator_inertia = 390.0;       ///< J_g (kg m^2)
+  double drive_train_stiffness = 2.7e9;   ///< K_dt (N m/rad)
+  double drive_train_damping = 775.49;    ///< B_dt (N m s/rad)
+  double rotor_friction = 7.11;           ///< B_r (N m s/rad)
+  double generator_friction = 45.6;       ///< B_g (N m s/rad)
+  double drive_train_efficiency = 0.97;   ///< eta_dt (-)
+  double generator_efficiency = 0.98;     ///< eta_g: electrical power = eta_g * omega_g * T_g
   double converter_time_constant = 0.02;  ///< s, first-order converter
-  double rated_power = 4.8e6;          ///< W, electrical
-  double rated_generator_speed = 162.0;  ///< rad/s
-  double pitch_omega_n = 11.11;        ///< rad/s, healthy hydraulic pitch actuator
-  double pitch_zeta = 0.6;             ///< -, healthy damping ratio
-  double pitch_rate_limit = 10.0;      ///< deg/s
-  double pitch_min = -2.0;             ///< deg
-  double pitch_max = 90.0;             ///< deg
-  double ice_radius = 40.0;            ///< m, radius at which accreted ice mass adds inertia (m r^2)
-  double ice_cp_loss = 0.02;           ///< relative Cp loss per tonne of ice (-/t)
-  double load_radius = 0.7;            ///< effective radius of a blade's wind, share of the rotor radius
+  double rated_power = 4.8e6;             ///< W, electrical
+  double rated_generator_speed = 162.0;   ///< rad/s
+  double pitch_omega_n = 11.11;           ///< rad/s, healthy hydraulic pitch actuator
+  double pitch_zeta = 0.6;                ///< -, healthy damping ratio
+  double pitch_rate_limit = 10.0;         ///< deg/s
+  double pitch_min = -2.0;                ///< deg
+  double pitch_max = 90.0;                ///< deg
+  double ice_radius = 40.0;               ///< m, radius at which accreted ice mass adds inertia (m r^2)
+  double ice_cp_loss = 0.02;              ///< relative Cp loss per tonne of ice (-/t)
+  double load_radius = 0.7;               ///< effective radius of a blade's wind, share of the rotor radius
 
-  double rotor_area() const;           ///< m^2
-  /// Lumped inertia referred to the generator side, (J_r + N^2 J_g) / N^2 (Stotsky & Egardt 2013, errata in docs/papers.md), kg m^2.
+  double rotor_area() const;  ///< m^2
+  /// Lumped inertia referred to the generator side, (J_r + N^2 J_g) / N^2 (Stotsky & Egardt 2013, errata in
+  /// docs/papers.md), kg m^2.
   double lumped_inertia(double extra_rotor_inertia = 0.0) const;
 };
 
@@ -46,9 +47,10 @@ TurbineParams load_turbine_params(const YamlSection& section);
 TurbineParams load_turbine_params_file(const std::string& path);
 
 /// Aerodynamics: the Heier/Slootweg analytic power coefficient
-///   Cp = c1 (c2/li - c3 beta - c4) exp(-c5/li) + c6 lambda,  1/li = 1/(lambda + 0.08 beta) - 0.035/(beta^3 + 1)
-/// with max(beta, 0) in the cubic term (the fit is singular at beta = -1 deg, which IPC reaches below fine pitch)
-/// (c = 0.5176, 116, 0.4, 5, 21, 0.0068; max Cp 0.48 at lambda 8.1, beta 0), and thrust from momentum
+///   Cp = c1 (c2/li - c3 beta - c4) exp(-c5/li) + c6 lambda,  1/li = 1/(lambda + 0.08 beta) - 0.035/(beta^3 +
+///   1)
+/// with max(beta, 0) in the cubic term (the fit is singular at beta = -1 deg, which IPC reaches below fine
+/// pitch) (c = 0.5176, 116, 0.4, 5, 21, 0.0068; max Cp 0.48 at lambda 8.1, beta 0), and thrust from momentum
 /// theory: the axial induction a with Cp = 4a(1-a)^2 (a <= 1/3) gives Ct = 4a(1-a). A blade's flapwise
 /// root moment is its third of the thrust at 2/3 of the radius: M = Ct q A (2R/3) / 3, q = rho v^2 / 2.
 class AeroModel {

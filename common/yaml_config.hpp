@@ -1,11 +1,10 @@
 // YAML configuration helpers: typed keys with defaults and range checks, errors that name file, line and key.
 #pragma once
 
-#include <filesystem>
-
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <filesystem>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -61,7 +60,9 @@ class YamlSection {
   const std::string& file() const { return file_; }
   std::string key_path(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
   int line() const { return node_.Mark().line + 1; }
-  bool has(const std::string& key) const { return node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull(); }
+  bool has(const std::string& key) const {
+    return node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull();
+  }
 
   /// Fails on any key not in `allowed`, listing the valid choices (a typo must not fall back to a default).
   void require_known_keys(const std::set<std::string>& allowed) const {

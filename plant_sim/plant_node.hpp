@@ -10,15 +10,15 @@
 namespace windfdi::plant {
 
 struct PlantOptions {
-  std::string scenario;               ///< scenario YAML
-  double rate = 1.0;                  ///< simulated seconds per wall second; 0: as fast as possible
-  bool offline = false;               ///< no DDS
-  std::string record;                 ///< replay CSV (plain or .gz) to write
-  bool record_truth = false;          ///< add true_*, aero_* and fault_active_* columns
-  int block = 10;                     ///< samples per TurbineFrame (1..32)
-  double duration = -1.0;             ///< s, overrides the scenario's when >= 0
-  double config_lease = 5.0;          ///< s (wall) a ControlConfiguration stays valid without a refresh
-  double progress_period = 5.0;       ///< s (wall) between progress lines (0: none)
+  std::string scenario;          ///< scenario YAML
+  double rate = 1.0;             ///< simulated seconds per wall second; 0: as fast as possible
+  bool offline = false;          ///< no DDS
+  std::string record;            ///< replay CSV (plain or .gz) to write
+  bool record_truth = false;     ///< add true_*, aero_* and fault_active_* columns
+  int block = 10;                ///< samples per TurbineFrame (1..32)
+  double duration = -1.0;        ///< s, overrides the scenario's when >= 0
+  double config_lease = 5.0;     ///< s (wall) a ControlConfiguration stays valid without a refresh
+  double progress_period = 5.0;  ///< s (wall) between progress lines (0: none)
 };
 
 /// Parses "realtime", "max" or a factor; throws ConfigError otherwise.

@@ -63,7 +63,8 @@ bool fault_class_from_name(const std::string& name, windfdi::FaultClass& out) {
 windfdi::FaultReport to_idl(const FaultEvent& e) {
   windfdi::FaultReport r;
   windfdi::FaultClass fc;
-  if (!fault_class_from_name(e.fault, fc)) throw std::invalid_argument("unknown fault class '" + e.fault + "'");
+  if (!fault_class_from_name(e.fault, fc))
+    throw std::invalid_argument("unknown fault class '" + e.fault + "'");
   const int sev = name_index(severity_names(), e.severity);
   if (sev < 0) throw std::invalid_argument("unknown severity '" + e.severity + "'");
   r.t(e.t);

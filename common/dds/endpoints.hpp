@@ -1,6 +1,10 @@
 // Typed DDS writer and reader: a node publishes or takes a topic in a few lines.
 #pragma once
 
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/DataWriterListener.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
@@ -8,17 +12,12 @@
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
-
-#include <atomic>
-#include <chrono>
-#include <condition_variable>
-#include <cstdint>
 #include <functional>
 #include <mutex>
 #include <set>
 #include <stdexcept>
-#include <thread>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "participant.hpp"
@@ -181,8 +180,9 @@ class Reader : private eprosima::fastdds::dds::DataReaderListener {
       : participant_(participant), wakeup_(wakeup) {
     using namespace eprosima::fastdds::dds;
     if (!Traits::writer_filtering) wanted_.insert(turbine_ids.begin(), turbine_ids.end());
-    auto* topic = participant.topic_for_turbines(Traits::name, type_support<typename Traits::PubSub>(),
-                                                 Traits::writer_filtering ? turbine_ids : std::vector<std::string>{});
+    auto* topic =
+        participant.topic_for_turbines(Traits::name, type_support<typename Traits::PubSub>(),
+                                       Traits::writer_filtering ? turbine_ids : std::vector<std::string>{});
     DataReaderQos qos;
     if (participant.subscriber()->get_datareader_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK)
       throw std::runtime_error("no data_reader QoS profile '" + profile + "'");

@@ -23,12 +23,12 @@ template <class T>
 struct TopicTraits;
 
 #define WINDFDI_TOPIC(Type, topic_name, profile_name, filter_at_writer) \
-  template <>                                                          \
-  struct TopicTraits<windfdi::Type> {                                  \
-    using PubSub = windfdi::Type##PubSubType;                          \
-    static constexpr const char* name = topic_name;                    \
-    static constexpr const char* profile = profile_name;               \
-    static constexpr bool writer_filtering = filter_at_writer;         \
+  template <>                                                           \
+  struct TopicTraits<windfdi::Type> {                                   \
+    using PubSub = windfdi::Type##PubSubType;                           \
+    static constexpr const char* name = topic_name;                     \
+    static constexpr const char* profile = profile_name;                \
+    static constexpr bool writer_filtering = filter_at_writer;          \
   }
 
 WINDFDI_TOPIC(TurbineFrame, "wt/frame", "sensor_stream", true);

@@ -9,8 +9,9 @@ namespace windfdi::plant {
 
 const std::vector<std::string>& sensor_channels() {
   static const std::vector<std::string> c = {
-      "rotor_speed", "generator_speed", "gen_torque", "power", "wind_hub", "pitch_1", "pitch_2", "pitch_3",
-      "blade_moment_1", "blade_moment_2", "blade_moment_3", "lidar_v_upper", "lidar_v_lower", "lidar"};
+      "rotor_speed",    "generator_speed", "gen_torque",    "power",          "wind_hub",
+      "pitch_1",        "pitch_2",         "pitch_3",       "blade_moment_1", "blade_moment_2",
+      "blade_moment_3", "lidar_v_upper",   "lidar_v_lower", "lidar"};
   return c;
 }
 
@@ -18,7 +19,8 @@ std::vector<std::string> fault_types_for(const std::string& target) {
   const auto& ch = sensor_channels();
   if (std::find(ch.begin(), ch.end(), target) != ch.end())
     return {"bias", "bias_paper", "gain", "offset", "drift", "stuck", "intermittent", "invalid"};
-  if (target.rfind("pitch_actuator_", 0) == 0 && target.size() == 16 && target[15] >= '1' && target[15] <= '3')
+  if (target.rfind("pitch_actuator_", 0) == 0 && target.size() == 16 && target[15] >= '1' &&
+      target[15] <= '3')
     return {"pump_wear", "hydraulic_leakage", "high_air_content"};
   if (target == "rotor") return {"ice_accretion", "ice_shedding"};
   if (target == "converter") return {"torque_offset"};
@@ -43,7 +45,8 @@ std::string join(const std::vector<std::string>& v) {
 
 WindConfig load_wind(const YamlSection& w) {
   w.require_known_keys({"mean", "turbulence_intensity", "length_scale", "shear_exponent", "shear_variation",
-                        "shear_time_constant", "tower_shadow", "lidar_distance", "lidar_rate", "lidar_noise"});
+                        "shear_time_constant", "tower_shadow", "lidar_distance", "lidar_rate",
+                        "lidar_noise"});
   WindConfig c;
   c.mean = w.require_number("mean", 0.5, 40.0);
   c.turbulence_intensity = w.get_number("turbulence_intensity", c.turbulence_intensity, 0.0, 0.5);
@@ -65,7 +68,8 @@ FaultSpec load_fault(const YamlSection& f, const std::set<std::string>& turbine_
   s.turbine = f.require<std::string>("turbine");
   if (!turbine_ids.count(s.turbine)) {
     std::vector<std::string> ids(turbine_ids.begin(), turbine_ids.end());
-    throw f.error("turbine", "'" + s.turbine + "' is not a turbine of this scenario (turbines: " + join(ids) + ")");
+    throw f.error("turbine",
+                  "'" + s.turbine + "' is not a turbine of this scenario (turbines: " + join(ids) + ")");
   }
   s.target = f.require<std::string>("target");
   const auto types = fault_types_for(s.target);
@@ -74,7 +78,8 @@ FaultSpec load_fault(const YamlSection& f, const std::set<std::string>& turbine_
                                 "; components: pitch_actuator_1..3, rotor, converter, drive_train)");
   s.type = f.require<std::string>("type");
   if (std::find(types.begin(), types.end(), s.type) == types.end())
-    throw f.error("type", "'" + s.type + "' is not a fault type of " + s.target + " (valid: " + join(types) + ")");
+    throw f.error("type",
+                  "'" + s.type + "' is not a fault type of " + s.target + " (valid: " + join(types) + ")");
   s.start = f.require_number("start", 0.0, duration);
   s.end = f.get_number("end", 1e300, s.start, 1e300);
   s.has_value = f.has("value");
@@ -104,7 +109,8 @@ FaultSpec load_fault(const YamlSection& f, const std::set<std::string>& turbine_
 
 Scenario load_scenario(const std::string& path, const std::string& deploy_dir) {
   const YamlSection root = YamlSection::load_file(path);
-  root.require_known_keys({"duration", "seed", "sample_rate", "turbine_file", "turbines", "faults", "description"});
+  root.require_known_keys(
+      {"duration", "seed", "sample_rate", "turbine_file", "turbines", "faults", "description"});
   Scenario sc;
   sc.file = path;
   sc.duration = root.require_number("duration", 0.01, 1e7);
@@ -124,7 +130,8 @@ Scenario load_scenario(const std::string& path, const std::string& deploy_dir) {
     t.require_known_keys({"id", "wind", "ice_mass"});
     TurbineScenario ts;
     ts.id = t.require<std::string>("id");
-    if (ts.id.empty() || !ids.insert(ts.id).second) throw t.error("id", "turbine ids must be unique and non-empty");
+    if (ts.id.empty() || !ids.insert(ts.id).second)
+      throw t.error("id", "turbine ids must be unique and non-empty");
     if (!t.has("wind")) throw t.error("wind", "required key is missing");
     ts.wind = load_wind(t.section("wind"));
     ts.ice_mass = t.get_number("ice_mass", 0.0, 0.0, 1e5);

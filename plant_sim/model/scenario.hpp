@@ -33,19 +33,19 @@ struct FaultSpec {
   double end = 1e300;  ///< s (absent: to the end)
   double value = 0.0;  ///< bias / offset / stuck value / torque offset / efficiency / ice mass ...
   bool has_value = false;
-  double gain = 1.0;         ///< gain, and intermittent's on-phase gain
-  double rate = 0.0;         ///< drift per second (channel unit / s)
-  double amplitude = 0.0;    ///< bias_paper: the share of eqs 41-42 (0.02 drive train, 0.05 pitch)
-  double period = 20.0;      ///< intermittent: s
-  double duty = 0.3;         ///< intermittent: share of the period the fault is on
-  double ramp_in = 0.0;      ///< s (pitch actuator faults, ice accretion)
-  double ramp_out = 0.0;     ///< s (pitch actuator faults)
-  double alpha = 1.0;        ///< pitch actuator: final fault indicator (0..1)
-  double fraction = 1.0;     ///< ice shedding: share of the ice that falls off
+  double gain = 1.0;       ///< gain, and intermittent's on-phase gain
+  double rate = 0.0;       ///< drift per second (channel unit / s)
+  double amplitude = 0.0;  ///< bias_paper: the share of eqs 41-42 (0.02 drive train, 0.05 pitch)
+  double period = 20.0;    ///< intermittent: s
+  double duty = 0.3;       ///< intermittent: share of the period the fault is on
+  double ramp_in = 0.0;    ///< s (pitch actuator faults, ice accretion)
+  double ramp_out = 0.0;   ///< s (pitch actuator faults)
+  double alpha = 1.0;      ///< pitch actuator: final fault indicator (0..1)
+  double fraction = 1.0;   ///< ice shedding: share of the ice that falls off
   std::string label() const { return target + ":" + type; }
 
-  /// A fault of `type` on `target` of `turbine` from `start` (s), the rest at its defaults, as a scenario file
-  /// with only those keys would give it.
+  /// A fault of `type` on `target` of `turbine` from `start` (s), the rest at its defaults, as a scenario
+  /// file with only those keys would give it.
   static FaultSpec make(std::string turbine, std::string target, std::string type, double start) {
     FaultSpec f;
     f.turbine = std::move(turbine);
@@ -69,7 +69,7 @@ struct TurbineScenario {
 
 struct Scenario {
   std::string file;
-  double duration = 600.0;     ///< s
+  double duration = 600.0;  ///< s
   uint64_t seed = 1;
   double sample_rate = 100.0;  ///< Hz
   std::string turbine_file;    ///< resolved path

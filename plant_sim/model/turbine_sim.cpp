@@ -1,5 +1,5 @@
-// One simulated benchmark turbine (drive train: Witczak et al. eqs 31-33; pitch actuator: Wu & Li eqs 11-13 with
-// Table 1, and the -omega_n^2 beta term eq 34 of Witczak et al. lacks).
+// One simulated benchmark turbine (drive train: Witczak et al. eqs 31-33; pitch actuator: Wu & Li eqs 11-13
+// with Table 1, and the -omega_n^2 beta term eq 34 of Witczak et al. lacks).
 #include "turbine_sim.hpp"
 
 #include <algorithm>
@@ -10,8 +10,8 @@ namespace windfdi::plant {
 
 namespace {
 
-constexpr int kSubsteps = 5;          // drive train and pitch integrated at 500 Hz (RK4)
-constexpr double kSettleTime = 60.0;  // s simulated before t = 0 so the recording starts settled
+constexpr int kSubsteps = 5;           // drive train and pitch integrated at 500 Hz (RK4)
+constexpr double kSettleTime = 60.0;   // s simulated before t = 0 so the recording starts settled
 constexpr double kShadowWidth = 0.25;  // rad, half-width of the tower shadow around azimuth pi
 
 struct TableSignature {
@@ -48,7 +48,8 @@ TurbineSim::TurbineSim(const TurbineParams& params, const TurbineScenario& turbi
       stuck_value_(faults.size(), 0.0),
       stuck_latched_(faults.size(), false) {
   // Frozen turbulence: what the LIDAR sees at distance D reaches the rotor D / V later.
-  delay_samples_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(wind_.lidar_distance / wind_.mean / dt_)));
+  delay_samples_ = std::max<std::size_t>(
+      1, static_cast<std::size_t>(std::lround(wind_.lidar_distance / wind_.mean / dt_)));
   const double v = wind_.mean;
   // Start at the operating point of the mean wind.
   double lambda_opt = 8.0, cp_max = 0.0;
@@ -263,7 +264,8 @@ void TurbineSim::controller(const ControlInput& in, const FrameSample& m, std::a
   }
   for (int i = 0; i < 3; ++i) {
     const double psi = psi1 + i * 2.0 * M_PI / 3.0;
-    pitch_ref[i] = std::clamp(collective + ipc_d_ * std::cos(psi) + ipc_q_ * std::sin(psi), p_.pitch_min, p_.pitch_max);
+    pitch_ref[i] =
+        std::clamp(collective + ipc_d_ * std::cos(psi) + ipc_q_ * std::sin(psi), p_.pitch_min, p_.pitch_max);
   }
 }
 
@@ -313,13 +315,15 @@ void TurbineSim::advance(const ControlInput& input, bool inject) {
   // Aerodynamics and blade loads at the current state.
   const double lambda = aero_.tip_speed_ratio(v_rotor, omega_r_);
   double t_aero = 0.0;
-  for (int i = 0; i < 3; ++i) t_aero += aero_.aero_torque(v_rotor, omega_r_, actuator_[i].angle, cp_scale) / 3.0;
+  for (int i = 0; i < 3; ++i)
+    t_aero += aero_.aero_torque(v_rotor, omega_r_, actuator_[i].angle, cp_scale) / 3.0;
   const double h = p_.hub_height;
   std::array<double, 3> moment{};
   for (int i = 0; i < 3; ++i) {
     const double psi = azimuth_ + i * 2.0 * M_PI / 3.0;
     const double height = h + p_.load_radius * p_.rotor_radius * std::cos(psi);
-    const double shadow = 1.0 - wind_.tower_shadow * std::exp(-std::pow(wrap_pi(psi - M_PI) / kShadowWidth, 2));
+    const double shadow =
+        1.0 - wind_.tower_shadow * std::exp(-std::pow(wrap_pi(psi - M_PI) / kShadowWidth, 2));
     const double vi = v_rotor * std::pow(height / h, shear) * shadow;
     moment[i] = aero_.moment_coefficient(lambda, actuator_[i].angle) * vi * vi;
   }
@@ -369,7 +373,8 @@ void TurbineSim::advance(const ControlInput& input, bool inject) {
   s.rotor_speed = measure("rotor_speed", omega_r_, noise_.rotor_speed, inject);
   s.generator_speed = measure("generator_speed", omega_g_, noise_.generator_speed, inject);
   s.gen_torque = measure("gen_torque", gen_torque_ + torque_offset, noise_.gen_torque, inject);
-  s.power = measure("power", p_.generator_efficiency * omega_g_ * (gen_torque_ + torque_offset), noise_.power, inject);
+  s.power = measure("power", p_.generator_efficiency * omega_g_ * (gen_torque_ + torque_offset), noise_.power,
+                    inject);
   s.wind_hub = measure("wind_hub", v_rotor, noise_.wind_hub, inject);
   s.azimuth = std::fmod(azimuth_, 2.0 * M_PI);
   static const char* kPitch[] = {"pitch_1", "pitch_2", "pitch_3"};
@@ -383,7 +388,8 @@ void TurbineSim::advance(const ControlInput& input, bool inject) {
   s.aero_torque = t_aero;
   s.aero_power = t_aero * omega_r_;
   const double* channels[] = {&s.rotor_speed, &s.generator_speed, &s.gen_torque, &s.power, &s.wind_hub};
-  const uint32_t bits[] = {kValidRotorSpeed, kValidGeneratorSpeed, kValidGenTorque, kValidPower, kValidWindHub};
+  const uint32_t bits[] = {kValidRotorSpeed, kValidGeneratorSpeed, kValidGenTorque, kValidPower,
+                           kValidWindHub};
   for (int c = 0; c < 5; ++c)
     if (!std::isfinite(*channels[c])) s.valid_mask &= ~bits[c];
   for (int i = 0; i < 3; ++i) {
@@ -417,8 +423,8 @@ void TurbineSim::advance(const ControlInput& input, bool inject) {
     auto f = [&](const std::array<double, 3>& x) {
       return std::array<double, 3>{
           -(bdt + br) / jr * x[0] + bdt / (n * jr) * x[1] - kdt / jr * x[2] + t_aero / jr,
-          eta * bdt / (n * jg) * x[0] - (eta * bdt / (n * n * jg) + bg / jg) * x[1] + eta * kdt / (n * jg) * x[2] -
-              tg / jg,
+          eta * bdt / (n * jg) * x[0] - (eta * bdt / (n * n * jg) + bg / jg) * x[1] +
+              eta * kdt / (n * jg) * x[2] - tg / jg,
           x[0] - x[1] / n};
     };
     std::array<double, 3> x{omega_r_, omega_g_, theta_};
@@ -436,8 +442,8 @@ void TurbineSim::advance(const ControlInput& input, bool inject) {
     theta_ = x[2];
 
     for (int b = 0; b < 3; ++b)
-      actuator_[b].step(pitch_ref[b], h_sub, wn[b], zeta[b], std::min(p_.pitch_rate_limit, input.pitch_rate_limit[b]),
-                        p_.pitch_min, p_.pitch_max);
+      actuator_[b].step(pitch_ref[b], h_sub, wn[b], zeta[b],
+                        std::min(p_.pitch_rate_limit, input.pitch_rate_limit[b]), p_.pitch_min, p_.pitch_max);
     azimuth_ += omega_r_ * h_sub;
   }
   azimuth_ = std::fmod(azimuth_, 2.0 * M_PI);
@@ -476,19 +482,23 @@ const FrameSample& TurbineSim::step(const ControlInput& input) {
 }
 
 std::vector<std::string> TurbineSim::truth_columns() const {
-  std::vector<std::string> c = {"true_rotor_speed", "true_generator_speed", "true_pitch_1", "true_pitch_2",
-                                "true_pitch_3", "true_blade_moment_1", "true_blade_moment_2", "true_blade_moment_3",
-                                "true_a1_1", "true_a1_2", "true_a1_3", "true_inertia", "true_ice_mass",
-                                "true_wind_hub", "true_gen_torque"};
+  std::vector<std::string> c = {"true_rotor_speed",    "true_generator_speed",
+                                "true_pitch_1",        "true_pitch_2",
+                                "true_pitch_3",        "true_blade_moment_1",
+                                "true_blade_moment_2", "true_blade_moment_3",
+                                "true_a1_1",           "true_a1_2",
+                                "true_a1_3",           "true_inertia",
+                                "true_ice_mass",       "true_wind_hub",
+                                "true_gen_torque"};
   for (const auto& f : faults_) c.push_back("fault_active_" + f.target + "_" + f.type);
   return c;
 }
 
 std::vector<double> TurbineSim::truth_values() const {
   const Truth& t = truth_;
-  std::vector<double> v = {t.rotor_speed, t.generator_speed, t.pitch[0], t.pitch[1], t.pitch[2],
-                           t.blade_moment[0], t.blade_moment[1], t.blade_moment[2], t.a1[0], t.a1[1], t.a1[2],
-                           t.inertia, t.ice_mass, t.wind_hub, t.gen_torque};
+  std::vector<double> v = {t.rotor_speed,     t.generator_speed, t.pitch[0],        t.pitch[1], t.pitch[2],
+                           t.blade_moment[0], t.blade_moment[1], t.blade_moment[2], t.a1[0],    t.a1[1],
+                           t.a1[2],           t.inertia,         t.ice_mass,        t.wind_hub, t.gen_torque};
   for (bool a : faults_active()) v.push_back(a ? 1.0 : 0.0);
   return v;
 }

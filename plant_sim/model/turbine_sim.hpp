@@ -35,19 +35,19 @@ struct ControlInput {
   std::array<double, 3> pitch_rate_limit{10.0, 10.0, 10.0};  ///< deg/s per blade
   bool use_corrected_generator_speed = false;
   double corrected_generator_speed = kNaN;  ///< rad/s, from wt/estimate/sensor_bias
-  double inertia = 0.0;                     ///< kg m^2 generator side for the ice-adapted controller (0: nominal)
+  double inertia = 0.0;  ///< kg m^2 generator side for the ice-adapted controller (0: nominal)
 };
 
 /// Baseline controller gains (documented in deploy/turbine/benchmark_4.8MW.yaml's companion README).
 struct ControllerParams {
-  double pitch_kp = 1.0;              ///< deg per rad/s of generator speed error
-  double pitch_ki = 0.4;              ///< deg per (rad/s * s)
-  double gain_schedule_pitch = 6.3;   ///< deg: gains divided by (1 + beta / this)
-  double speed_filter = 0.1;          ///< s, low-pass time constant on measured generator speed
-  double ipc_gain = 2e-7;             ///< deg per (N m * s): integral gain of the 1P (d-q) loop
-  double ipc_limit = 3.0;             ///< deg, largest IPC pitch offset
-  double degraded_power = 0.7;        ///< share of rated power in degraded mode
-  double stop_torque_time = 10.0;     ///< s to ramp the generator torque to zero in a safe stop
+  double pitch_kp = 1.0;             ///< deg per rad/s of generator speed error
+  double pitch_ki = 0.4;             ///< deg per (rad/s * s)
+  double gain_schedule_pitch = 6.3;  ///< deg: gains divided by (1 + beta / this)
+  double speed_filter = 0.1;         ///< s, low-pass time constant on measured generator speed
+  double ipc_gain = 2e-7;            ///< deg per (N m * s): integral gain of the 1P (d-q) loop
+  double ipc_limit = 3.0;            ///< deg, largest IPC pitch offset
+  double degraded_power = 0.7;       ///< share of rated power in degraded mode
+  double stop_torque_time = 10.0;    ///< s to ramp the generator torque to zero in a safe stop
 };
 
 /// Sensor noise (standard deviations) at the benchmark's levels.
@@ -65,8 +65,8 @@ struct NoiseParams {
 struct Truth {
   double rotor_speed = 0, generator_speed = 0, torsion = 0;
   std::array<double, 3> pitch{}, blade_moment{}, a1{};  ///< deg, N m, first-harmonic amplitude (N m)
-  double inertia = 0;   ///< lumped, generator side (kg m^2)
-  double ice_mass = 0;  ///< kg
+  double inertia = 0;                                   ///< lumped, generator side (kg m^2)
+  double ice_mass = 0;                                  ///< kg
   double aero_torque = 0, aero_power = 0, gen_torque = 0;
   double wind_hub = 0;       ///< at the rotor (m/s)
   double wind_upstream = 0;  ///< hub-height wind at the LIDAR plane now (m/s)
@@ -75,9 +75,9 @@ struct Truth {
 
 class TurbineSim {
  public:
-  TurbineSim(const TurbineParams& params, const TurbineScenario& turbine, const std::vector<FaultSpec>& faults,
-             uint64_t seed, double sample_rate, const ControllerParams& controller = {},
-             const NoiseParams& noise = {});
+  TurbineSim(const TurbineParams& params, const TurbineScenario& turbine,
+             const std::vector<FaultSpec>& faults, uint64_t seed, double sample_rate,
+             const ControllerParams& controller = {}, const NoiseParams& noise = {});
 
   /// Advances one sample; returns the measured sample (sequence numbers from 0, t from 0).
   const FrameSample& step(const ControlInput& input = {});
@@ -131,9 +131,9 @@ class TurbineSim {
 
   // Plant state.
   double omega_r_ = 0, omega_g_ = 0, theta_ = 0;  // drive train
-  double gen_torque_ = 0;                          // converter output (N m)
+  double gen_torque_ = 0;                         // converter output (N m)
   std::array<PitchActuator, 3> actuator_{};
-  double azimuth_ = 0;                             // rad, blade 1
+  double azimuth_ = 0;  // rad, blade 1
   double ice_mass_ = 0, ice_initial_ = 0, ice_shed_ = 0;
   std::vector<bool> shed_done_;
   // Controller state.

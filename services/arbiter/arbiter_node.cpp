@@ -54,8 +54,8 @@ ArbiterNode::ArbiterNode(const CommonOptions& common, const ArbiterConfig& confi
       health_(participant_, "arbiter", common.turbines) {}
 
 bool ArbiterNode::serves(const std::string& id) const {
-  return id != "*" && (common_.turbines.empty() ||
-                       std::find(common_.turbines.begin(), common_.turbines.end(), id) != common_.turbines.end());
+  return id != "*" && (common_.turbines.empty() || std::find(common_.turbines.begin(), common_.turbines.end(),
+                                                             id) != common_.turbines.end());
 }
 
 ArbiterNode::Turbine& ArbiterNode::turbine(const std::string& id) {
@@ -84,8 +84,8 @@ void ArbiterNode::handle_inputs(double wall) {
     if (std::isfinite(e.t)) t.clock.observe(e.t, wall);
     if (!t.arbiter.on_fault(e, t.clock.now(wall))) {
       health_.count_rejected(r.turbine_id());
-      spdlog::warn("{}: ignoring FaultReport {} / {} from {}: not a valid component and class", r.turbine_id(),
-                   e.component, e.fault, e.source);
+      spdlog::warn("{}: ignoring FaultReport {} / {} from {}: not a valid component and class",
+                   r.turbine_id(), e.component, e.fault, e.source);
     }
   }
 
@@ -115,8 +115,8 @@ void ArbiterNode::handle_inputs(double wall) {
   acks_.take(acks);
   for (const auto& a : acks) {
     if (!serves(a.turbine_id())) continue;
-    spdlog::info("{}: acknowledgement of {} on {} by {}", a.turbine_id(), bus::fault_class_name(a.fault_class()),
-                 a.component(), a.operator_name());
+    spdlog::info("{}: acknowledgement of {} on {} by {}", a.turbine_id(),
+                 bus::fault_class_name(a.fault_class()), a.component(), a.operator_name());
     Turbine& t = turbine(a.turbine_id());
     t.arbiter.on_ack(a.component(), bus::fault_class_name(a.fault_class()), t.clock.now(wall));
   }
@@ -130,8 +130,8 @@ void ArbiterNode::publish_configurations(double wall) {
     if (!changed && wall - t.last_published < options_.republish_period) continue;
     if (changed) {
       ++t.revision;
-      spdlog::info("{}: configuration r{}: mode {}, ipc {}, ice {}, pitch rate {}/{}/{} deg/s, {} reasons", id,
-                   t.revision, to_string(c.mode), to_string(c.ipc_source), to_string(c.ice_mode),
+      spdlog::info("{}: configuration r{}: mode {}, ipc {}, ice {}, pitch rate {}/{}/{} deg/s, {} reasons",
+                   id, t.revision, to_string(c.mode), to_string(c.ipc_source), to_string(c.ice_mode),
                    c.pitch_rate_limit[0], c.pitch_rate_limit[1], c.pitch_rate_limit[2], c.reasons.size());
       for (const auto& r : c.reasons)
         spdlog::info("{}:   because {} reported {} on {}: {}", id, r.source, r.fault, r.component, r.action);

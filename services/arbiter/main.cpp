@@ -10,9 +10,12 @@ int main(int argc, char** argv) {
   add_common_options(app, common);
   std::string config_file;
   arbiter::NodeOptions node;
-  app.add_option("--config", config_file, "arbiter YAML (default: built-in defaults, see deploy/config/arbiter.yaml)");
-  app.add_option("--arbiter-id", node.arbiter_id, "name in every configuration published")->capture_default_str();
-  app.add_option("--strength", node.strength, "ownership strength: the live arbiter with the highest is followed")
+  app.add_option("--config", config_file,
+                 "arbiter YAML (default: built-in defaults, see deploy/config/arbiter.yaml)");
+  app.add_option("--arbiter-id", node.arbiter_id, "name in every configuration published")
+      ->capture_default_str();
+  app.add_option("--strength", node.strength,
+                 "ownership strength: the live arbiter with the highest is followed")
       ->capture_default_str()
       ->check(CLI::Range(0, 1000000));
   return run_main(app, argc, argv, common, [&] {

@@ -1,4 +1,5 @@
-// windfdi-blade-load's service spec: a BladeLoadMonitor per turbine, LIDAR merged, state persisted per turbine.
+// windfdi-blade-load's service spec: a BladeLoadMonitor per turbine, LIDAR merged, state persisted per
+// turbine.
 #include "blade_load_service.hpp"
 
 #include <spdlog/spdlog.h>
@@ -32,7 +33,8 @@ struct State {
 class BladeLoadDiagnoser : public TurbineDiagnoser {
  public:
   BladeLoadDiagnoser(const State& s, const std::string& id)
-      : monitor_(s.config, s.table), path_(s.state_file.empty() ? "" : state_path_for(s.state_file, id)),
+      : monitor_(s.config, s.table),
+        path_(s.state_file.empty() ? "" : state_path_for(s.state_file, id)),
         save_period_(s.save_period) {
     if (path_.empty()) return;
     MonitorState st;
@@ -87,7 +89,8 @@ ServiceSpec blade_load_spec() {
   ServiceSpec spec;
   spec.name = "blade_load";
   spec.description =
-      "Blade-root moment sensor faults from the first harmonic, strain gauge vs LIDAR load model (Stotsky 2014)";
+      "Blade-root moment sensor faults from the first harmonic, strain gauge vs LIDAR load model (Stotsky "
+      "2014)";
   spec.estimate_columns = {"a1_sensor_1", "a1_sensor_2", "a1_sensor_3", "a1_model_1", "a1_model_2",
                            "a1_model_3",  "delta_a_1",   "delta_a_2",   "delta_a_3"};
   spec.wants_lidar = true;
@@ -95,8 +98,8 @@ ServiceSpec blade_load_spec() {
     // Relative files are taken beside the configuration file.
     state->turbine = configured_turbine(cfg);
     state->config = load_monitor_config(cfg, state->turbine);
-    state->table =
-        LoadTable::load_csv(cfg.get_path("load_table_file", deploy_dir() + "/turbine/benchmark_4.8MW_load_table.csv"));
+    state->table = LoadTable::load_csv(
+        cfg.get_path("load_table_file", deploy_dir() + "/turbine/benchmark_4.8MW_load_table.csv"));
     // "" (the default) keeps no state.
     state->state_file = cfg.get<std::string>("state_file", "").empty() ? "" : cfg.get_path("state_file", "");
     state->save_period = cfg.get_number("save_period", 600.0, 1.0, 1e7);

@@ -61,8 +61,8 @@ void FarmNode::handle(double now) {
   for (const auto& r : reports) {
     const FaultEvent e = bus::to_event(r);
     if (store_.add_fault(e, now))
-      spdlog::info("{} {} {} {} ({}) from {}", e.turbine_id, e.component, e.fault, e.raised ? "RAISED" : "cleared",
-                   e.severity, e.source);
+      spdlog::info("{} {} {} {} ({}) from {}", e.turbine_id, e.component, e.fault,
+                   e.raised ? "RAISED" : "cleared", e.severity, e.source);
     state_.on_fault(e);
   }
   std::vector<windfdi::ControlConfiguration> configs;
@@ -113,7 +113,8 @@ int publish_ack(const CommonOptions& common, const std::string& turbine, const s
   windfdi::FaultClass fc = windfdi::FAULT_NONE;
   if (!bus::fault_class_from_name(fault, fc))
     throw ConfigError("--fault", 0, "", "'" + fault + "' is not a fault class");
-  if (!is_component(component)) throw ConfigError("COMPONENT", 0, "", "'" + component + "' is not a component");
+  if (!is_component(component))
+    throw ConfigError("COMPONENT", 0, "", "'" + component + "' is not a component");
   bus::Participant participant(participant_options(common, "windfdi-farm-ack"));
   bus::Writer<windfdi::FaultAck> writer(participant);
   writer.wait_for_readers(1, std::chrono::milliseconds(static_cast<int>(timeout_s * 1000)));
@@ -124,9 +125,8 @@ int publish_ack(const CommonOptions& common, const std::string& turbine, const s
   ack.fault_class(fc);
   ack.operator_name(operator_name);
   if (!writer.write(ack)) throw std::runtime_error("FaultAck not written");
-  const bool acked = writer.get()->wait_for_acknowledgments(
-                         eprosima::fastrtps::Duration_t(static_cast<int32_t>(std::ceil(timeout_s)), 0)) ==
-                     ReturnCode_t::RETCODE_OK;
+  const bool acked = writer.get()->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(
+                         static_cast<int32_t>(std::ceil(timeout_s)), 0)) == ReturnCode_t::RETCODE_OK;
   if (writer.matched() == 0) {
     spdlog::error("no arbiter received the acknowledgement within {} s", timeout_s);
     return kExitFailure;
@@ -140,8 +140,9 @@ int print_history(const std::string& db, const std::string& turbine, double sinc
   FarmStore store(db);
   for (const auto& row : store.history(turbine, since)) {
     if (json) {
-      std::cout << nlohmann::json{{"received_at", row.received_at}, {"kind", row.kind}, {"data", row.data}}.dump()
-                << "\n";
+      std::cout
+          << nlohmann::json{{"received_at", row.received_at}, {"kind", row.kind}, {"data", row.data}}.dump()
+          << "\n";
       continue;
     }
     char when[32];

@@ -6,7 +6,8 @@
 
 int main(int argc, char** argv) {
   using namespace windfdi;
-  CLI::App app{"Farm monitor: follows every turbine's faults, stores them, acknowledges them", "windfdi-farm"};
+  CLI::App app{"Farm monitor: follows every turbine's faults, stores them, acknowledges them",
+               "windfdi-farm"};
   CommonOptions common;
   add_common_options(app, common);
   farm::FarmOptions options;
@@ -30,7 +31,8 @@ int main(int argc, char** argv) {
   double timeout = 5.0;
   ack->add_option("TURBINE", ack_turbine, "turbine id")->required();
   ack->add_option("COMPONENT", component, "component, e.g. pitch_actuator_3")->required();
-  ack->add_option("--fault", fault, "fault class (default: every class on the component)")->capture_default_str();
+  ack->add_option("--fault", fault, "fault class (default: every class on the component)")
+      ->capture_default_str();
   ack->add_option("--operator", operator_name, "who acknowledges")->capture_default_str();
   ack->add_option("--timeout", timeout, "seconds to wait for an arbiter")->capture_default_str();
 

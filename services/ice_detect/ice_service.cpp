@@ -1,4 +1,5 @@
-// windfdi-ice-detect's service spec: per-turbine IceDetector, aerodynamic power from the model or the recording.
+// windfdi-ice-detect's service spec: per-turbine IceDetector, aerodynamic power from the model or the
+// recording.
 #include "ice_service.hpp"
 
 #include <cmath>
@@ -13,8 +14,8 @@ namespace windfdi::ice_detect {
 
 double model_aero_power(const AeroModel& aero, double wind, const FrameSample& s) {
   // Blade by blade: with individual pitch the blades' Cp differ and Cp is far from linear in pitch.
-  if (!std::isfinite(wind) || wind < 0.0 || wind > 60.0 || !std::isfinite(s.rotor_speed) || s.rotor_speed < 0.0 ||
-      s.rotor_speed > 5.0)
+  if (!std::isfinite(wind) || wind < 0.0 || wind > 60.0 || !std::isfinite(s.rotor_speed) ||
+      s.rotor_speed < 0.0 || s.rotor_speed > 5.0)
     return kNaN;
   double p = 0.0;
   for (double pitch : s.pitch) {
@@ -29,7 +30,8 @@ bool usable_wind(double v) { return std::isfinite(v) && v >= 0.0 && v <= 60.0; }
 }  // namespace
 
 AeroPowerInput::AeroPowerInput(const AeroModel& aero, double wind_window, double sample_time)
-    : aero_(aero), half_(static_cast<std::size_t>(std::lround(0.5 * std::max(0.0, wind_window) / sample_time))) {}
+    : aero_(aero),
+      half_(static_cast<std::size_t>(std::lround(0.5 * std::max(0.0, wind_window) / sample_time))) {}
 
 bool AeroPowerInput::push(const FrameSample& s, bool gap, FrameSample& out, bool& out_gap, double& power) {
   window_.push_back(Entry{s, gap});
@@ -42,11 +44,13 @@ bool AeroPowerInput::push(const FrameSample& s, bool gap, FrameSample& out, bool
   if (std::isfinite(out.aero_power)) {
     power = out.aero_power;  // the recording's column (replay contract)
   } else {
-    power = usable_wind(out.wind_hub) ? model_aero_power(aero_, wind_sum_ / static_cast<double>(wind_count_), out)
-                                      : kNaN;
+    power = usable_wind(out.wind_hub)
+                ? model_aero_power(aero_, wind_sum_ / static_cast<double>(wind_count_), out)
+                : kNaN;
   }
   if (++next_ > half_) {
-    if (usable_wind(window_.front().sample.wind_hub)) wind_sum_ -= window_.front().sample.wind_hub, --wind_count_;
+    if (usable_wind(window_.front().sample.wind_hub))
+      wind_sum_ -= window_.front().sample.wind_hub, --wind_count_;
     window_.pop_front();
     --next_;
   }

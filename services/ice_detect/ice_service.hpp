@@ -1,9 +1,9 @@
 // windfdi-ice-detect's service spec (the shared diagnostic-service main runs it).
 #pragma once
 
-#include "diagnostic_service.hpp"
 #include <deque>
 
+#include "diagnostic_service.hpp"
 #include "ice_detector.hpp"
 
 namespace windfdi::ice_detect {
@@ -19,8 +19,8 @@ class AeroPowerInput {
   /// `wind_window` (s, 0: no averaging) at the sample time `sample_time` (s).
   AeroPowerInput(const AeroModel& aero, double wind_window, double sample_time);
   /// Takes a sample (`gap`: samples were lost before it). Returns true when a delayed sample is out, in
-  /// `out` and `out_gap`, with its aerodynamic power in `power` (NaN when an input is missing or out of range).
-  /// A gap does not break the average: the wind a second apart is still the same gust.
+  /// `out` and `out_gap`, with its aerodynamic power in `power` (NaN when an input is missing or out of
+  /// range). A gap does not break the average: the wind a second apart is still the same gust.
   bool push(const FrameSample& s, bool gap, FrameSample& out, bool& out_gap, double& power);
 
  private:
@@ -29,10 +29,10 @@ class AeroPowerInput {
     bool gap = false;
   };
   const AeroModel& aero_;
-  std::size_t half_;       // samples each side of the centre
+  std::size_t half_;          // samples each side of the centre
   std::deque<Entry> window_;  // half_ samples before the next one out, it, and up to half_ after
   std::size_t next_ = 0;      // index in window_ of the next sample out
-  double wind_sum_ = 0.0;  // over the window's finite anemometer values
+  double wind_sum_ = 0.0;     // over the window's finite anemometer values
   std::size_t wind_count_ = 0;
 };
 

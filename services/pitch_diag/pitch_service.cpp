@@ -69,9 +69,7 @@ ServiceSpec pitch_diag_spec() {
   spec.estimate_columns = {"omega_n_1", "omega_n_2", "omega_n_3", "zeta_1",    "zeta_2",
                            "zeta_3",    "class_1",   "class_2",   "class_3",   "alpha_1",
                            "alpha_2",   "alpha_3",   "excited_1", "excited_2", "excited_3"};
-  spec.configure = [config](const YamlSection& cfg) {
-    *config = load_pitch_diag_config(cfg);
-  };
+  spec.configure = [config](const YamlSection& cfg) { *config = load_pitch_diag_config(cfg); };
   spec.make = [config](const std::string&) -> std::unique_ptr<TurbineDiagnoser> {
     return std::make_unique<PitchTurbine>(*config);
   };

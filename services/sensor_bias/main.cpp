@@ -1,4 +1,5 @@
-// windfdi-sensor-bias: speed and pitch sensor-bias estimation with a quadratic-boundedness observer (Witczak et al.).
+// windfdi-sensor-bias: speed and pitch sensor-bias estimation with a quadratic-boundedness observer (Witczak
+// et al.).
 #include "sensor_bias_service.hpp"
 
 int main(int argc, char** argv) {

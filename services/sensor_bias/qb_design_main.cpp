@@ -1,5 +1,6 @@
-// windfdi-qb-design: solves the quadratic-boundedness LMI (Witczak et al. Theorem 1, eq 19, or the observer form) with
-// CSDP, searches alpha in (0, 1), and writes the gain file K = P^-1 U (eq 30) that windfdi-sensor-bias loads.
+// windfdi-qb-design: solves the quadratic-boundedness LMI (Witczak et al. Theorem 1, eq 19, or the observer
+// form) with CSDP, searches alpha in (0, 1), and writes the gain file K = P^-1 U (eq 30) that
+// windfdi-sensor-bias loads.
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -14,12 +15,13 @@ using namespace windfdi::sensor_bias;
 namespace {
 
 void usage() {
-  std::cout << "usage: windfdi-qb-design DESIGN.yaml [--out GAINS.yaml] [--alpha A]\n"
-               "  Solves the LMI of Witczak et al. (structure: paper, eq 19) or of the bias-augmented observer\n"
-               "  (structure: observer) for a fixed alpha (--alpha or 'alpha:' in the file) or searches alpha in\n"
-               "  (0, 1); prints alpha, K = P^-1 U, P, the invariant-set size, and writes the gain file.\n"
-               "  --zero-gain writes the discretised model with K = 0 and no certificate (paper mode only).\n"
-               "  Exit codes: 0 designed, 2 bad input, 3 infeasible.\n";
+  std::cout
+      << "usage: windfdi-qb-design DESIGN.yaml [--out GAINS.yaml] [--alpha A]\n"
+         "  Solves the LMI of Witczak et al. (structure: paper, eq 19) or of the bias-augmented observer\n"
+         "  (structure: observer) for a fixed alpha (--alpha or 'alpha:' in the file) or searches alpha in\n"
+         "  (0, 1); prints alpha, K = P^-1 U, P, the invariant-set size, and writes the gain file.\n"
+         "  --zero-gain writes the discretised model with K = 0 and no certificate (paper mode only).\n"
+         "  Exit codes: 0 designed, 2 bad input, 3 infeasible.\n";
 }
 
 void print_matrix(const char* name, const Eigen::MatrixXd& M) {
@@ -77,7 +79,8 @@ int main(int argc, char** argv) {
     in.alpha = alpha;
   }
   if (zero_gain) {
-    // Paper mode only: the discretised model with K = 0 and no QB certificate (docs/papers.md, Witczak et al.: K is irrelevant there).
+    // Paper mode only: the discretised model with K = 0 and no QB certificate (docs/papers.md, Witczak et
+    // al.: K is irrelevant there).
     QbSolution z;
     z.K = Eigen::MatrixXd::Zero(in.problem.A.rows(), in.problem.C.rows());
     z.P = Eigen::MatrixXd::Identity(in.problem.A.rows(), in.problem.A.rows());
@@ -89,19 +92,22 @@ int main(int argc, char** argv) {
     return f ? 0 : 2;
   }
   const QbSolution sol = in.fixed_alpha ? qb_solve(in.problem, in.alpha) : qb_design(in.problem, in.search);
-  std::cout << "design " << in.name << " (" << (in.problem.structure == QbStructure::kPaper ? "paper eq 19" : "observer")
-            << ", " << in.problem.A.rows() << " states, " << in.problem.C.rows() << " outputs): "
-            << (in.fixed_alpha ? "fixed alpha" : "alpha search") << ", " << sol.solves << " SDPs, " << sol.seconds
-            << " s\n";
+  std::cout << "design " << in.name << " ("
+            << (in.problem.structure == QbStructure::kPaper ? "paper eq 19" : "observer") << ", "
+            << in.problem.A.rows() << " states, " << in.problem.C.rows()
+            << " outputs): " << (in.fixed_alpha ? "fixed alpha" : "alpha search") << ", " << sol.solves
+            << " SDPs, " << sol.seconds << " s\n";
   if (!sol.feasible) {
     std::cerr << "windfdi-qb-design: INFEASIBLE: " << sol.message << "\n";
     if (in.problem.structure == QbStructure::kPaper)
-      std::cerr << "  (necessary condition: alpha < 1 - rho(A)^2 = " << qb_alpha_upper_bound(in.problem) << ")\n";
+      std::cerr << "  (necessary condition: alpha < 1 - rho(A)^2 = " << qb_alpha_upper_bound(in.problem)
+                << ")\n";
     return 3;
   }
-  std::printf("alpha = %.6g\ntrace = %.6g\nmargin = %.3g\nLMI max eigenvalue (Eigen check) = %.3g\n"
-              "closed-loop spectral radius = %.8f\n",
-              sol.alpha, sol.trace, sol.margin, sol.lmi_max_eigenvalue, sol.closed_loop_radius);
+  std::printf(
+      "alpha = %.6g\ntrace = %.6g\nmargin = %.3g\nLMI max eigenvalue (Eigen check) = %.3g\n"
+      "closed-loop spectral radius = %.8f\n",
+      sol.alpha, sol.trace, sol.margin, sol.lmi_max_eigenvalue, sol.closed_loop_radius);
   std::fflush(stdout);
   print_matrix("K", sol.K);
   print_matrix("P", sol.P);

@@ -1,4 +1,5 @@
-// windfdi-sensor-bias's service spec: one BiasEstimator per turbine, estimates at frame rate with corrected values.
+// windfdi-sensor-bias's service spec: one BiasEstimator per turbine, estimates at frame rate with corrected
+// values.
 #include "sensor_bias_service.hpp"
 
 #include <memory>
@@ -14,7 +15,8 @@ namespace {
 
 class BiasDiagnoser : public TurbineDiagnoser {
  public:
-  BiasDiagnoser(const BiasConfig& c, const GainFile& dt, const GainFile& p, const TurbineParams& t) : est_(c, dt, p, t) {}
+  BiasDiagnoser(const BiasConfig& c, const GainFile& dt, const GainFile& p, const TurbineParams& t)
+      : est_(c, dt, p, t) {}
   bool update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events) override {
     fresh_ = true;
     return est_.update(s, gap, events);
@@ -51,11 +53,22 @@ ServiceSpec sensor_bias_spec() {
   ServiceSpec spec;
   spec.name = "sensor_bias";
   spec.description =
-      "Speed and pitch sensor biases with a quadratic-boundedness observer (Witczak, Pazera, Puig, Mrugalski)";
-  // The replay contract's five columns first, then the corrected measurements, the bound ratio and the input used.
-  spec.estimate_columns = {"bias_rotor_speed", "bias_generator_speed", "bias_pitch_1", "bias_pitch_2", "bias_pitch_3",
-                           "corrected_rotor_speed", "corrected_generator_speed", "corrected_pitch_1",
-                           "corrected_pitch_2", "corrected_pitch_3", "bound_ratio", "aero_torque_input"};
+      "Speed and pitch sensor biases with a quadratic-boundedness observer (Witczak, Pazera, Puig, "
+      "Mrugalski)";
+  // The replay contract's five columns first, then the corrected measurements, the bound ratio and the input
+  // used.
+  spec.estimate_columns = {"bias_rotor_speed",
+                           "bias_generator_speed",
+                           "bias_pitch_1",
+                           "bias_pitch_2",
+                           "bias_pitch_3",
+                           "corrected_rotor_speed",
+                           "corrected_generator_speed",
+                           "corrected_pitch_1",
+                           "corrected_pitch_2",
+                           "corrected_pitch_3",
+                           "bound_ratio",
+                           "aero_torque_input"};
   spec.configure = [state](const YamlSection& cfg) {
     state->turbine = configured_turbine(cfg);
     state->config = load_bias_config(cfg, deploy_dir() + "/sensor_bias");

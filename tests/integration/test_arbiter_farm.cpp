@@ -47,8 +47,8 @@ TEST_F(ArbiterFarm, CriticalFaultSafeStopsLatchesUntilAckAndFarmLosesNothingOnRe
   const std::string db = dir + "/farm.sqlite";
   auto farm = std::make_unique<ChildProcess>(
       std::vector<std::string>{bin("windfdi-farm"), "--db", db, "--table-period", "0"}, env, "farm");
-  ChildProcess arbiter({bin("windfdi-arbiter"), "--config", dir + "/arbiter.yaml", "--arbiter-id", "primary"}, env,
-                       "arbiter");
+  ChildProcess arbiter({bin("windfdi-arbiter"), "--config", dir + "/arbiter.yaml", "--arbiter-id", "primary"},
+                       env, "arbiter");
   ChildProcess plant({bin("windfdi-test-peer"), "configs", "--timeout", "120"}, env, "configs");
   ASSERT_TRUE(ready(plant)) << plant.stderr_text();
   // GIVEN pitch_diag reporting a critical leak on blade 3 at 2 s and clearing it at 14 s (held past the
@@ -80,14 +80,16 @@ TEST_F(ArbiterFarm, CriticalFaultSafeStopsLatchesUntilAckAndFarmLosesNothingOnRe
       std::vector<std::string>{bin("windfdi-farm"), "--db", db, "--table-period", "0"}, env, "farm2");
   std::this_thread::sleep_for(std::chrono::seconds(4));  // transient-local replay arrives again
   // AND an operator acknowledges the leak
-  ChildProcess ack({bin("windfdi-farm"), "ack", "WT01", "pitch_actuator_3", "--operator", "test"}, env, "ack");
+  ChildProcess ack({bin("windfdi-farm"), "ack", "WT01", "pitch_actuator_3", "--operator", "test"}, env,
+                   "ack");
   ASSERT_EQ(ack.wait(std::chrono::seconds(30)), 0) << ack.stderr_text();
 
   // THEN the plant is released to normal (mode 0)
   ASSERT_TRUE(wait_until([&] { return configs(plant).back()["mode"] == 0; }, std::chrono::seconds(20)))
       << plant.stdout_text();
   // AND the farm history holds the raise and the clear exactly once each, and every event from before
-  ASSERT_TRUE(wait_until([&] { return farm_history(db, env).size() > before.size(); }, std::chrono::seconds(20)));
+  ASSERT_TRUE(
+      wait_until([&] { return farm_history(db, env).size() > before.size(); }, std::chrono::seconds(20)));
   const auto after = farm_history(db, env);
   int raised = 0, cleared = 0;
   for (const auto& row : after) {
@@ -115,9 +117,9 @@ TEST_F(ArbiterFarm, KilledServiceBecomesServiceLostAndConservativeSetting) {
   ChildProcess plant({bin("windfdi-test-peer"), "configs", "--timeout", "120"}, env, "configs");
   ASSERT_TRUE(ready(plant));
   // GIVEN a live sensor_bias service for WT01
-  ChildProcess service({bin("windfdi-test-peer"), "fault", "--source", "sensor_bias", "--turbine-id", "WT01",
-                        "--hold", "120"},
-                       env, "sensor_bias");
+  ChildProcess service(
+      {bin("windfdi-test-peer"), "fault", "--source", "sensor_bias", "--turbine-id", "WT01", "--hold", "120"},
+      env, "sensor_bias");
   ASSERT_TRUE(ready(service));
   ASSERT_TRUE(wait_until([&] { return !configs(plant).empty(); }, std::chrono::seconds(20)));
   EXPECT_EQ(configs(plant).back()["mode"], 0);
@@ -142,7 +144,8 @@ TEST_F(ArbiterFarm, KilledServiceBecomesServiceLostAndConservativeSetting) {
   ASSERT_TRUE(wait_until(
       [&] {
         for (const auto& row : farm_history(db, env))
-          if (row["kind"] == "health" && row["data"]["event"] == "lost" && row["data"]["service"] == "sensor_bias")
+          if (row["kind"] == "health" && row["data"]["event"] == "lost" &&
+              row["data"]["service"] == "sensor_bias")
             return true;
         return false;
       },
@@ -152,10 +155,12 @@ TEST_F(ArbiterFarm, KilledServiceBecomesServiceLostAndConservativeSetting) {
 TEST_F(ArbiterFarm, StandbyArbiterTakesOverWhenThePrimaryDies) {
   ChildProcess plant({bin("windfdi-test-peer"), "configs", "--timeout", "120"}, env, "configs");
   ASSERT_TRUE(ready(plant));
-  ChildProcess primary({bin("windfdi-arbiter"), "--arbiter-id", "primary", "--strength", "100", "--turbine", "WT01"},
-                       env, "primary");
-  ChildProcess standby({bin("windfdi-arbiter"), "--arbiter-id", "standby", "--strength", "50", "--turbine", "WT01"},
-                       env, "standby");
+  ChildProcess primary(
+      {bin("windfdi-arbiter"), "--arbiter-id", "primary", "--strength", "100", "--turbine", "WT01"}, env,
+      "primary");
+  ChildProcess standby(
+      {bin("windfdi-arbiter"), "--arbiter-id", "standby", "--strength", "50", "--turbine", "WT01"}, env,
+      "standby");
   // GIVEN both arbiters running and matched for a few seconds
   ASSERT_TRUE(wait_until([&] { return configs(plant, "primary").size() >= 3; }, std::chrono::seconds(30)))
       << plant.stdout_text();
@@ -168,11 +173,13 @@ TEST_F(ArbiterFarm, StandbyArbiterTakesOverWhenThePrimaryDies) {
   primary.stop(SIGKILL);
   const auto killed = std::chrono::steady_clock::now();
   // THEN the standby's configurations reach the plant within the lease (2 s) plus the 1 s republish period
-  ASSERT_TRUE(wait_until([&] { return configs(plant).back()["arbiter_id"] == "standby"; }, std::chrono::seconds(15)))
+  ASSERT_TRUE(
+      wait_until([&] { return configs(plant).back()["arbiter_id"] == "standby"; }, std::chrono::seconds(15)))
       << plant.stdout_text();
   const double takeover = std::chrono::duration<double>(std::chrono::steady_clock::now() - killed).count();
   EXPECT_LT(takeover, 4.0);
-  std::cout << "[ measured ] standby arbiter's configuration at the plant " << takeover << " s after the kill\n";
+  std::cout << "[ measured ] standby arbiter's configuration at the plant " << takeover
+            << " s after the kill\n";
 }
 
 }  // namespace

@@ -49,9 +49,10 @@ Replay replay(const std::string& scenario) {
                       "--record", r.dir + "/frames.csv.gz"},
                      {}, "plant");
   EXPECT_EQ(plant.wait(std::chrono::seconds(60)), 0) << plant.stderr_text();
-  ChildProcess diag({bin("windfdi-blade-load"), "--replay", r.dir + "/frames.csv.gz", "--estimates",
-                     r.dir + "/est.csv", "--events", r.dir + "/events.jsonl", "--config", private_config(r.dir)},
-                    {}, "blade_load_replay");
+  ChildProcess diag(
+      {bin("windfdi-blade-load"), "--replay", r.dir + "/frames.csv.gz", "--estimates", r.dir + "/est.csv",
+       "--events", r.dir + "/events.jsonl", "--config", private_config(r.dir)},
+      {}, "blade_load_replay");
   EXPECT_EQ(diag.wait(std::chrono::seconds(60)), 0) << diag.stderr_text();
   std::stringstream est(read_file(r.dir + "/est.csv"));
   std::getline(est, r.header);
@@ -136,8 +137,8 @@ TEST(BladeLoadReplay, InvalidSensorRaisedAndCleared) {
   EXPECT_NEAR(r.events[1]["t"].get<double>(), 200.0, 0.5);
 }
 
-// WT02 (14 m/s) used to raise at 1340 s and 1803 s: a blade's pitch swept through -1 deg, where the plant's k_M is
-// singular, while the IPC faded out (the steep-surface gate, README).
+// WT02 (14 m/s) used to raise at 1340 s and 1803 s: a blade's pitch swept through -1 deg, where the plant's
+// k_M is singular, while the IPC faded out (the steep-surface gate, README).
 TEST(BladeLoadReplay, HealthyFarmHourRaisesNothing) {
   // GIVEN healthy.yaml: three turbines at 8, 14 and 20 m/s for an hour
   const Replay r = replay("healthy.yaml");
@@ -164,8 +165,9 @@ TEST(BladeLoadPipeline, AbruptFaultReachesTheFarmAndTheArbiterSwitchesIpcToTheLi
   ChildProcess diag({bin("windfdi-blade-load"), "--config", private_config(dir)}, env, "blade_load");
   std::this_thread::sleep_for(std::chrono::seconds(2));
   // GIVEN the plant running sensor_abrupt.yaml (fault at 250 s) at 20x real time: about 13 s of wall time
-  ChildProcess plant({bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/sensor_abrupt.yaml", "--rate", "20"},
-                     env, "plant");
+  ChildProcess plant(
+      {bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/sensor_abrupt.yaml", "--rate", "20"}, env,
+      "plant");
   // THEN the farm stores sensor_abrupt raised by blade_load on blade_moment_sensor_2
   const auto stored = [&] {
     for (const auto& j : farm_history(db, env))
@@ -182,7 +184,8 @@ TEST(BladeLoadPipeline, AbruptFaultReachesTheFarmAndTheArbiterSwitchesIpcToTheLi
       if (j.contains("revision") && j["ipc_source"] == 1) return true;
     return false;
   };
-  EXPECT_TRUE(wait_until(reacted, std::chrono::seconds(15))) << configs.stdout_text() << arbiter.stderr_text();
+  EXPECT_TRUE(wait_until(reacted, std::chrono::seconds(15)))
+      << configs.stdout_text() << arbiter.stderr_text();
   // AND no fault on another blade
   EXPECT_EQ(diag.stderr_text().find("blade_moment_sensor_1"), std::string::npos) << diag.stderr_text();
   EXPECT_EQ(diag.stderr_text().find("blade_moment_sensor_3"), std::string::npos) << diag.stderr_text();

@@ -1,11 +1,10 @@
 // Two-process DDS test: one process publishes TurbineFrames for 3 turbines, others receive them.
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
-#include <thread>
-
 #include <csignal>
 #include <filesystem>
+#include <nlohmann/json.hpp>
+#include <thread>
 
 #include "process.hpp"
 
@@ -50,9 +49,9 @@ TEST_F(DdsFrames, FilteredAndUnfilteredReadersGetExactlyTheirTurbines) {
   // GIVEN a reader of every turbine and a reader filtered to WT02, on a private domain
   const auto env = dds_env(domain);
   const int blocks = 50, block = 10;
-  ChildProcess all({bin("windfdi-test-peer"), "listen", "--expect", std::to_string(3 * blocks * block),
-                    "--timeout", "40"},
-                   env, "listen-all");
+  ChildProcess all(
+      {bin("windfdi-test-peer"), "listen", "--expect", std::to_string(3 * blocks * block), "--timeout", "40"},
+      env, "listen-all");
   ChildProcess one({bin("windfdi-test-peer"), "listen", "--turbine", "WT02", "--expect",
                     std::to_string(blocks * block), "--timeout", "40"},
                    env, "listen-wt02");
@@ -83,11 +82,13 @@ TEST_F(DdsFrames, ABusyWriterSurvivesFilteredReadersComingAndGoing) {
   // GIVEN a writer of estimates for three turbines that writes as fast as it can (Fast DDS 2.9 evaluated
   // remote readers' filters in write() unlocked against their arrival and departure: such a writer crashed)
   const auto env = dds_env(domain);
-  ChildProcess flood({bin("windfdi-test-peer"), "flood", "--ids", "WT01,WT02,WT03", "--hold", "120"}, env, "flood");
+  ChildProcess flood({bin("windfdi-test-peer"), "flood", "--ids", "WT01,WT02,WT03", "--hold", "120"}, env,
+                     "flood");
   ASSERT_TRUE(wait_ready(flood, std::chrono::seconds(20))) << flood.stderr_text();
 
   // WHEN a reader with a DDS content filter on WT02 is created and deleted 60 times in another process
-  ChildProcess churn({bin("windfdi-test-peer"), "churn", "--turbine-id", "WT02", "--cycles", "60"}, env, "churn");
+  ChildProcess churn({bin("windfdi-test-peer"), "churn", "--turbine-id", "WT02", "--cycles", "60"}, env,
+                     "churn");
   int churn_exit = -1;
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(200);
   while (churn_exit == -1 && flood.running() && std::chrono::steady_clock::now() < end)
@@ -114,8 +115,8 @@ TEST_F(DdsFrames, ListenerGivesUpWithoutPublisherAndSaysSo) {
 
 TEST_F(DdsFrames, SigtermExitsCleanlyAndLeavesNoSharedMemory) {
   // GIVEN a running DDS participant on a private domain
-  ChildProcess p({bin("windfdi-test-peer"), "listen", "--expect", "1000000", "--timeout", "60"}, dds_env(domain),
-                 "sigterm");
+  ChildProcess p({bin("windfdi-test-peer"), "listen", "--expect", "1000000", "--timeout", "60"},
+                 dds_env(domain), "sigterm");
   ASSERT_TRUE(wait_ready(p, std::chrono::seconds(20))) << p.stderr_text();
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   ASSERT_GT(count_domain_shm(domain), 0) << "the participant should hold shared-memory port files";

@@ -53,9 +53,7 @@ struct Farm {
     std::replace(name.begin(), name.end(), '-', '_');
     return start({bin(exe), "--config", kDeploy + "/config/" + name + ".yaml"}, exe);
   }
-  std::vector<json> history() const {
-    return farm_history(db, env);
-  }
+  std::vector<json> history() const { return farm_history(db, env); }
   std::vector<json> configurations() const {
     std::vector<json> out;
     for (auto& j : json_lines(configs->stdout_text()))

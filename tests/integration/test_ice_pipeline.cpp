@@ -1,5 +1,5 @@
-// windfdi-ice-detect as a process: end to end on DDS (plant with an iced rotor -> ice_detect -> arbiter and farm
-// monitor), and the replay contract on a plant recording with an accretion and a shedding.
+// windfdi-ice-detect as a process: end to end on DDS (plant with an iced rotor -> ice_detect -> arbiter and
+// farm monitor), and the replay contract on a plant recording with an accretion and a shedding.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -28,12 +28,15 @@ TEST(IcePipeline, IcedRotorReachesTheFarmAndTheArbiterAdaptsTheController) {
   ChildProcess ice({bin("windfdi-ice-detect"), "--config", deploy + "/config/ice_detect.yaml"}, env, "ice");
   std::this_thread::sleep_for(std::chrono::seconds(2));
   // GIVEN a plant whose rotor carries 3 t of ice, at 20x real time
-  ChildProcess plant({bin("windfdi-plant"), "--scenario", deploy + "/scenarios/iced_rotor.yaml", "--rate", "20"}, env,
-                     "plant");
+  ChildProcess plant(
+      {bin("windfdi-plant"), "--scenario", deploy + "/scenarios/iced_rotor.yaml", "--rate", "20"}, env,
+      "plant");
   // THEN the plant applies an ice-adapted configuration (ice mode 1) from the arbiter
   const bool adapted = wait_until(
-      [&] { return plant.stderr_text().find("applying configuration") != std::string::npos &&
-                   farm.stderr_text().find("ice adapted") != std::string::npos; },
+      [&] {
+        return plant.stderr_text().find("applying configuration") != std::string::npos &&
+               farm.stderr_text().find("ice adapted") != std::string::npos;
+      },
       std::chrono::seconds(60));
   // AND the farm stored ice_accretion on rotor from ice_detect
   const auto rows = farm_history(dir + "/farm.sqlite", env);
@@ -71,8 +74,8 @@ TEST(IceReplay, PlantRecordingTracksTheAccretionAndFlagsTheShedding) {
   ASSERT_EQ(plant.wait(std::chrono::seconds(60)), 0) << plant.stderr_text();
   // WHEN windfdi-ice-detect replays it with the shipped configuration (the recording has no aerodynamic
   // power, as a real turbine's: the model on the anemometer gives it)
-  ChildProcess ice({bin("windfdi-ice-detect"), "--replay", dir + "/frames.csv.gz", "--estimates", dir + "/est.csv",
-                    "--events", dir + "/events.jsonl", "--config",
+  ChildProcess ice({bin("windfdi-ice-detect"), "--replay", dir + "/frames.csv.gz", "--estimates",
+                    dir + "/est.csv", "--events", dir + "/events.jsonl", "--config",
                     std::string(WINDFDI_SOURCE_DEPLOY_DIR) + "/config/ice_detect.yaml"},
                    {}, "ice_replay");
   ASSERT_EQ(ice.wait(std::chrono::seconds(60)), 0) << ice.stderr_text();
@@ -120,7 +123,8 @@ TEST(IceReplay, PlantRecordingTracksTheAccretionAndFlagsTheShedding) {
 }
 
 TEST(IceReplay, MalformedRecordingExitsWithCode2NamingFileAndLine) {
-  const auto r = replay_malformed("windfdi-ice-detect", "t,generator_speed,gen_torque\n0,152,30000\n0.01,152,torque\n");
+  const auto r =
+      replay_malformed("windfdi-ice-detect", "t,generator_speed,gen_torque\n0,152,30000\n0.01,152,torque\n");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.stderr_text.find(r.file + ":3"), std::string::npos) << r.stderr_text;
 }

@@ -13,8 +13,8 @@ using namespace std::chrono_literals;
 
 TEST(InstalledTree, ThePlantAndEveryServiceRunFromTheInstalledConfiguration) {
   const std::string root = temp_dir("install");
-  ChildProcess install({WINDFDI_CMAKE, "--install", WINDFDI_BUILD_DIR, "--prefix", "/usr"}, {{"DESTDIR", root}},
-                       "install");
+  ChildProcess install({WINDFDI_CMAKE, "--install", WINDFDI_BUILD_DIR, "--prefix", "/usr"},
+                       {{"DESTDIR", root}}, "install");
   ASSERT_EQ(install.wait(180s), 0) << install.stdout_text() << install.stderr_text();
 
   const std::string etc = root + "/etc/windfdi";
@@ -22,17 +22,18 @@ TEST(InstalledTree, ThePlantAndEveryServiceRunFromTheInstalledConfiguration) {
   // The installed tree stands for /etc/windfdi: the source tree must not be what the binaries read.
   const std::map<std::string, std::string> env{{"WINDFDI_DEPLOY_DIR", etc}, {"WINDFDI_QOS_FILE", ""}};
   const std::string recording = root + "/ice_accretion.csv";
-  ChildProcess plant({usr + "/bin/windfdi-plant", "--scenario", usr + "/share/windfdi/scenarios/ice_accretion.yaml",
-                      "--offline", "--record", recording, "--duration", "60", "--progress", "0"},
-                     env, "plant");
+  ChildProcess plant(
+      {usr + "/bin/windfdi-plant", "--scenario", usr + "/share/windfdi/scenarios/ice_accretion.yaml",
+       "--offline", "--record", recording, "--duration", "60", "--progress", "0"},
+      env, "plant");
   ASSERT_EQ(plant.wait(120s), 0) << plant.stderr_text();
 
   for (const std::string service : {"blade_load", "sensor_bias", "pitch_diag", "ice_detect"}) {
     std::string exe = "windfdi-" + service;
     std::replace(exe.begin(), exe.end(), '_', '-');
     const std::string estimates = root + "/" + service + ".csv";
-    ChildProcess p({usr + "/bin/" + exe, "--config", etc + "/config/" + service + ".yaml", "--replay", recording,
-                    "--estimates", estimates, "--events", root + "/" + service + ".jsonl"},
+    ChildProcess p({usr + "/bin/" + exe, "--config", etc + "/config/" + service + ".yaml", "--replay",
+                    recording, "--estimates", estimates, "--events", root + "/" + service + ".jsonl"},
                    env, service);
     EXPECT_EQ(p.wait(120s), 0) << service << ": " << p.stderr_text();
     // A header and at least one estimate per simulated 10 s (ice_detect writes at 1 Hz, the slowest).

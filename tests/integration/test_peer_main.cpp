@@ -1,20 +1,19 @@
 // windfdi-test-peer: a DDS peer for the multi-process tests (publishes or receives TurbineFrames).
 #include <spdlog/spdlog.h>
 
-#include <map>
-#include <sstream>
-#include <nlohmann/json.hpp>
-#include <thread>
-
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
 
 #include "ControlConfiguration.h"
 #include "Estimates.h"
 #include "app.hpp"
-#include "yaml_config.hpp"
 #include "dds/convert.hpp"
 #include "dds/endpoints.hpp"
 #include "health.hpp"
+#include "yaml_config.hpp"
 
 using namespace windfdi;
 
@@ -44,7 +43,8 @@ int publish(const CommonOptions& common, const std::vector<std::string>& ids, in
       frame.t(frame.samples().back().t());
       if (!writer.write(frame)) ++failures;
     }
-    sleep_unless_shutdown(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(1.0 / rate)));
+    sleep_unless_shutdown(
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(1.0 / rate)));
   }
   writer.get()->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(10, 0));
   std::cout << nlohmann::json{{"published_blocks", blocks}, {"write_failures", failures}}.dump() << std::endl;
@@ -58,7 +58,8 @@ struct DiscoveryCounter : eprosima::fastdds::dds::DomainParticipantListener {
   std::atomic<int> participants{0}, writers{0}, readers{0};
   void on_participant_discovery(eprosima::fastdds::dds::DomainParticipant*,
                                 eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
-    if (info.status == eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERED_PARTICIPANT) ++participants;
+    if (info.status == eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERED_PARTICIPANT)
+      ++participants;
   }
   // Fast DDS reports the participant's own endpoints here too: only other participants' count.
   void on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant* self,
@@ -136,7 +137,8 @@ int fault(const CommonOptions& common, const std::string& turbine, const std::st
       std::vector<std::string> f;
       std::stringstream ss(script[i]);
       for (std::string part; std::getline(ss, part, ':');) f.push_back(part);
-      if (f.size() != 5) throw ConfigError("--script", 0, script[i], "want AT:component:class:severity:state");
+      if (f.size() != 5)
+        throw ConfigError("--script", 0, script[i], "want AT:component:class:severity:state");
       if (now - start < std::stod(f[0])) continue;
       FaultEvent e;
       e.t = now - start;
@@ -191,10 +193,12 @@ int configs(const CommonOptions& common, double timeout) {
 
 // Publishes a safe-stop ControlConfiguration for one turbine as `arbiter_id` with a high ownership strength,
 // every 0.5 s for `hold` s (the security tests run it with roles that may or may not publish configurations).
-int control(const CommonOptions& common, const std::string& turbine, const std::string& arbiter_id, double hold) {
+int control(const CommonOptions& common, const std::string& turbine, const std::string& arbiter_id,
+            double hold) {
   bus::Participant participant(participant_options(common, "windfdi-test-peer-control"));
   bus::Writer<windfdi::ControlConfiguration> writer(
-      participant, "control", [](eprosima::fastdds::dds::DataWriterQos& q) { q.ownership_strength().value = 1000; });
+      participant, "control",
+      [](eprosima::fastdds::dds::DataWriterQos& q) { q.ownership_strength().value = 1000; });
   std::cout << "{\"ready\":true}" << std::endl;
   const double start = wall_time();
   uint64_t revision = 0, written = 0;
@@ -244,7 +248,8 @@ int churn(const CommonOptions& common, const std::string& turbine, int cycles) {
   TopicDescription* topic =
       participant.topic_for_turbines(Traits::name, bus::type_support<Traits::PubSub>(), {turbine});
   DataReaderQos qos;
-  if (participant.subscriber()->get_datareader_qos_from_profile(Traits::profile, qos) != ReturnCode_t::RETCODE_OK)
+  if (participant.subscriber()->get_datareader_qos_from_profile(Traits::profile, qos) !=
+      ReturnCode_t::RETCODE_OK)
     throw std::runtime_error(std::string("no data_reader QoS profile ") + Traits::profile);
   uint64_t received = 0, foreign = 0;
   int matched_cycles = 0;

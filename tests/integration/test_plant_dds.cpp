@@ -28,11 +28,12 @@ class PlantDds : public ::testing::Test {
 
 TEST_F(PlantDds, PublishesEveryTurbinesFramesInOrder) {
   // GIVEN a reader of every turbine WHEN the plant runs healthy.yaml (3 turbines) for 5 s in real time
-  ChildProcess listener({bin("windfdi-test-peer"), "listen", "--expect", "1500", "--timeout", "15"}, env, "listen");
+  ChildProcess listener({bin("windfdi-test-peer"), "listen", "--expect", "1500", "--timeout", "15"}, env,
+                        "listen");
   ASSERT_TRUE(wait_until([&] { return listener.stdout_text().find("ready") != std::string::npos; },
                          std::chrono::seconds(20)));
-  ChildProcess plant({bin("windfdi-plant"), "--scenario", kScenarios + "healthy.yaml", "--duration", "5"}, env,
-                     "plant");
+  ChildProcess plant({bin("windfdi-plant"), "--scenario", kScenarios + "healthy.yaml", "--duration", "5"},
+                     env, "plant");
   ASSERT_EQ(plant.wait(std::chrono::seconds(40)), 0) << plant.stderr_text();
   // (the listener exits 0 with all 1500 samples, 1 at its timeout with fewer: its summary is what counts)
   ASSERT_GE(listener.wait(std::chrono::seconds(40)), 0) << listener.stdout_text();
@@ -52,49 +53,55 @@ TEST_F(PlantDds, PublishesEveryTurbinesFramesInOrder) {
 
 TEST_F(PlantDds, StandbyArbiterTakesOverAtThePlantWithinTheLease) {
   // GIVEN a plant, pump wear reported on WT01's blade 2, and a primary and a standby arbiter
-  ChildProcess plant({bin("windfdi-plant"), "--scenario", kScenarios + "pump_wear.yaml", "--duration", "120"}, env,
-                     "plant");
+  ChildProcess plant({bin("windfdi-plant"), "--scenario", kScenarios + "pump_wear.yaml", "--duration", "120"},
+                     env, "plant");
   ChildProcess service({bin("windfdi-test-peer"), "fault", "--source", "pitch_diag", "--turbine-id", "WT01",
                         "--script", "1:pitch_actuator_2:pump_wear:warning:raised", "--hold", "120"},
                        env, "pitch_diag");
-  ChildProcess primary({bin("windfdi-arbiter"), "--arbiter-id", "primary", "--strength", "100"}, env, "primary");
+  ChildProcess primary({bin("windfdi-arbiter"), "--arbiter-id", "primary", "--strength", "100"}, env,
+                       "primary");
   // THEN the plant applies the primary's configuration (blade 2 derated)
   ASSERT_TRUE(wait_until([&] { return contains(plant, "from primary"); }, std::chrono::seconds(30)))
       << plant.stderr_text();
   // The standby joins a running primary, as in a deployment. (Started all at once, the plant once went 5 s
   // without any configuration: a discovery-time race of exclusive ownership, noted in the issue.)
-  ChildProcess standby({bin("windfdi-arbiter"), "--arbiter-id", "standby", "--strength", "10"}, env, "standby");
+  ChildProcess standby({bin("windfdi-arbiter"), "--arbiter-id", "standby", "--strength", "10"}, env,
+                       "standby");
   std::this_thread::sleep_for(std::chrono::seconds(3));
   // Before the plant has discovered the primary, the standby is rightly the strongest live arbiter; once the
   // primary is known, nothing of the standby's may be applied (no two configurations fight).
   const std::string log = plant.stderr_text();
   EXPECT_EQ(log.find("from standby", log.find("from primary")), std::string::npos)
-      << "the standby's configuration reached the plant while the primary lived:\n" << log;
+      << "the standby's configuration reached the plant while the primary lived:\n"
+      << log;
   const std::size_t before_kill = plant.stderr_text().size();
   // WHEN the primary dies
   primary.stop(SIGKILL);
   const auto killed = std::chrono::steady_clock::now();
   // THEN the standby's configuration is applied within its 2 s liveliness lease plus a republish period
-  ASSERT_TRUE(wait_until([&] { return plant.stderr_text().find("from standby", before_kill) != std::string::npos; },
-                         std::chrono::seconds(20)))
+  ASSERT_TRUE(
+      wait_until([&] { return plant.stderr_text().find("from standby", before_kill) != std::string::npos; },
+                 std::chrono::seconds(20)))
       << plant.stderr_text();
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - killed).count();
   EXPECT_LT(s, 4.0);
   // AND the plant never fell back to its defaults (no gap longer than the 5 s configuration lease)
   EXPECT_FALSE(contains(plant, "arbiter lost")) << plant.stderr_text();
-  std::cout << "[ measured ] standby configuration applied by the plant " << s << " s after the primary died\n";
+  std::cout << "[ measured ] standby configuration applied by the plant " << s
+            << " s after the primary died\n";
 }
 
 TEST_F(PlantDds, WithoutArbiterTheLeaseExpiresButASafeStopStays) {
   // GIVEN a critical leak making the arbiter order a safe stop
-  ChildProcess plant({bin("windfdi-plant"), "--scenario", kScenarios + "hydraulic_leakage.yaml", "--duration", "120",
-                      "--config-lease", "3"},
+  ChildProcess plant({bin("windfdi-plant"), "--scenario", kScenarios + "hydraulic_leakage.yaml", "--duration",
+                      "120", "--config-lease", "3"},
                      env, "plant");
   ChildProcess service({bin("windfdi-test-peer"), "fault", "--source", "pitch_diag", "--turbine-id", "WT01",
                         "--script", "1:pitch_actuator_1:hydraulic_leakage:critical:raised", "--hold", "120"},
                        env, "pitch_diag");
   ChildProcess arbiter({bin("windfdi-arbiter")}, env, "arbiter");
-  ASSERT_TRUE(wait_until([&] { return contains(plant, "mode 2"); }, std::chrono::seconds(30))) << plant.stderr_text();
+  ASSERT_TRUE(wait_until([&] { return contains(plant, "mode 2"); }, std::chrono::seconds(30)))
+      << plant.stderr_text();
   // WHEN the only arbiter dies
   arbiter.stop(SIGKILL);
   // THEN after the 3 s lease the plant returns to its defaults but stays stopped
@@ -106,14 +113,15 @@ TEST_F(PlantDds, WithoutArbiterTheLeaseExpiresButASafeStopStays) {
 TEST(PlantCli, BadScenarioExitsWithCode2NamingFileLineAndKey) {
   const std::string dir = temp_dir("plant_cli");
   std::ofstream(dir + "/bad.yaml") << "duration: 10\nturbines:\n  - {id: WT01, wind: {mean: 10}}\nfaults:\n"
-                                       "  - {turbine: WT01, target: pitch_1, type: sticky, start: 1}\n";
+                                      "  - {turbine: WT01, target: pitch_1, type: sticky, start: 1}\n";
   ChildProcess plant({bin("windfdi-plant"), "--scenario", dir + "/bad.yaml", "--offline"}, {}, "plant_bad");
   EXPECT_EQ(plant.wait(std::chrono::seconds(20)), 2);
   const std::string err = plant.stderr_text();
   EXPECT_NE(err.find(dir + "/bad.yaml:5"), std::string::npos) << err;
   EXPECT_NE(err.find("faults[0].type"), std::string::npos) << err;
   EXPECT_NE(err.find("stuck"), std::string::npos) << err;  // the valid choices are listed
-  ChildProcess rate({bin("windfdi-plant"), "--scenario", dir + "/bad.yaml", "--rate", "fast"}, {}, "plant_rate");
+  ChildProcess rate({bin("windfdi-plant"), "--scenario", dir + "/bad.yaml", "--rate", "fast"}, {},
+                    "plant_rate");
   EXPECT_EQ(rate.wait(std::chrono::seconds(20)), 2);
 }
 

@@ -1,6 +1,6 @@
-// windfdi-sensor-bias as a process: the replay contract on plant recordings of the three sensor-bias scenarios,
-// a malformed recording, and end to end on DDS (plant -> sensor_bias -> arbiter and farm monitor) for a
-// generator-speed sensor bias (the arbiter switches the controller to the corrected generator speed).
+// windfdi-sensor-bias as a process: the replay contract on plant recordings of the three sensor-bias
+// scenarios, a malformed recording, and end to end on DDS (plant -> sensor_bias -> arbiter and farm monitor)
+// for a generator-speed sensor bias (the arbiter switches the controller to the corrected generator speed).
 #include <gtest/gtest.h>
 
 #include <csignal>
@@ -39,21 +39,25 @@ TEST_P(SensorBiasReplay, PlantRecordingRaisesTheBiasedSensorOnlyAfterTheOnset) {
                      {}, "plant");
   ASSERT_EQ(plant.wait(std::chrono::seconds(60)), 0) << plant.stderr_text();
   // WHEN windfdi-sensor-bias replays it with the shipped configuration
-  ChildProcess est({bin("windfdi-sensor-bias"), "--replay", dir + "/frames.csv.gz", "--estimates", dir + "/est.csv",
-                    "--events", dir + "/events.jsonl", "--config", kDeploy + "/config/sensor_bias.yaml"},
-                   {}, "sensor_bias_replay");
+  ChildProcess est(
+      {bin("windfdi-sensor-bias"), "--replay", dir + "/frames.csv.gz", "--estimates", dir + "/est.csv",
+       "--events", dir + "/events.jsonl", "--config", kDeploy + "/config/sensor_bias.yaml"},
+      {}, "sensor_bias_replay");
   ASSERT_EQ(est.wait(std::chrono::seconds(60)), 0) << est.stderr_text();
   // THEN the estimates start with the contract's columns and cover the recording
   std::stringstream es(read_file(dir + "/est.csv"));
   std::string header;
   std::getline(es, header);
-  EXPECT_EQ(header.rfind("t,turbine_id,bias_rotor_speed,bias_generator_speed,bias_pitch_1,bias_pitch_2,bias_pitch_3", 0),
-            0u)
+  EXPECT_EQ(
+      header.rfind(
+          "t,turbine_id,bias_rotor_speed,bias_generator_speed,bias_pitch_1,bias_pitch_2,bias_pitch_3", 0),
+      0u)
       << header;
   int rows = 0;
   for (std::string line; std::getline(es, line);) ++rows;
   EXPECT_GT(rows, 2000);
-  // AND the first event raises sensor_bias on the biased sensor after the onset, and no other component appears
+  // AND the first event raises sensor_bias on the biased sensor after the onset, and no other component
+  // appears
   const auto events = json_lines(read_file(dir + "/events.jsonl"));
   ASSERT_FALSE(events.empty()) << c.scenario;
   EXPECT_EQ(events[0]["component"], c.component);
@@ -68,12 +72,14 @@ TEST_P(SensorBiasReplay, PlantRecordingRaisesTheBiasedSensorOnlyAfterTheOnset) {
 
 INSTANTIATE_TEST_SUITE_P(Scenarios, SensorBiasReplay,
                          ::testing::Values(ReplayCase{"sensor_bias_rotor_speed.yaml", "rotor_speed_sensor"},
-                                           ReplayCase{"sensor_bias_generator_speed.yaml", "generator_speed_sensor"},
+                                           ReplayCase{"sensor_bias_generator_speed.yaml",
+                                                      "generator_speed_sensor"},
                                            ReplayCase{"sensor_bias_pitch.yaml", "pitch_sensor_2"}),
                          [](const auto& i) { return std::string(i.param.component); });
 
 TEST(SensorBiasReplayInput, MalformedRecordingExitsWithCode2NamingFileAndLine) {
-  const auto r = replay_malformed("windfdi-sensor-bias", "t,rotor_speed,generator_speed\n0,1.6,152\n0.01,abc,152\n");
+  const auto r =
+      replay_malformed("windfdi-sensor-bias", "t,rotor_speed,generator_speed\n0,1.6,152\n0.01,abc,152\n");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.stderr_text.find(r.file + ":3"), std::string::npos) << r.stderr_text;
 }
@@ -86,17 +92,19 @@ TEST(SensorBiasPipeline, GeneratorSpeedBiasReachesTheFarmAndTheControllerUsesThe
   ChildProcess farm({bin("windfdi-farm"), "--db", db, "--table-period", "0"}, env, "farm");
   ChildProcess arbiter({bin("windfdi-arbiter")}, env, "arbiter");
   ChildProcess configs({bin("windfdi-test-peer"), "configs", "--timeout", "120"}, env, "configs");
-  ChildProcess est({bin("windfdi-sensor-bias"), "--config", kDeploy + "/config/sensor_bias.yaml"}, env, "sensor_bias");
+  ChildProcess est({bin("windfdi-sensor-bias"), "--config", kDeploy + "/config/sensor_bias.yaml"}, env,
+                   "sensor_bias");
   std::this_thread::sleep_for(std::chrono::seconds(2));
   // GIVEN the plant running a 2 % generator-speed sensor bias from 150 s at 20x real time
-  ChildProcess plant(
-      {bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/sensor_bias_generator_speed.yaml", "--rate", "20"},
-      env, "plant");
+  ChildProcess plant({bin("windfdi-plant"), "--scenario",
+                      kDeploy + "/scenarios/sensor_bias_generator_speed.yaml", "--rate", "20"},
+                     env, "plant");
   // THEN the farm stores sensor_bias raised by sensor_bias on the generator speed sensor
   const auto stored = [&](const std::string& component) {
     for (const auto& j : farm_history(db, env))
-      if (j["kind"] == "fault" && j["data"]["component"] == component && j["data"]["fault"] == "sensor_bias" &&
-          j["data"]["source"] == "sensor_bias" && j["data"]["state"] == "raised")
+      if (j["kind"] == "fault" && j["data"]["component"] == component &&
+          j["data"]["fault"] == "sensor_bias" && j["data"]["source"] == "sensor_bias" &&
+          j["data"]["state"] == "raised")
         return true;
     return false;
   };
@@ -108,7 +116,8 @@ TEST(SensorBiasPipeline, GeneratorSpeedBiasReachesTheFarmAndTheControllerUsesThe
       if (j.contains("revision") && j.value("use_corrected_generator_speed", false)) return true;
     return false;
   };
-  EXPECT_TRUE(wait_until(corrected, std::chrono::seconds(20))) << configs.stdout_text() << arbiter.stderr_text();
+  EXPECT_TRUE(wait_until(corrected, std::chrono::seconds(20)))
+      << configs.stdout_text() << arbiter.stderr_text();
   // AND neither the rotor speed sensor nor a pitch sensor was stored as biased
   EXPECT_FALSE(stored("rotor_speed_sensor"));
   for (const char* p : {"pitch_sensor_1", "pitch_sensor_2", "pitch_sensor_3"}) EXPECT_FALSE(stored(p)) << p;

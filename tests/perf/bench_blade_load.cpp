@@ -1,4 +1,5 @@
-// blade_load kernel throughput: harmonic least-squares update (eq 7, recursive add/drop) per blade-sample, d = 4.
+// blade_load kernel throughput: harmonic least-squares update (eq 7, recursive add/drop) per blade-sample, d
+// = 4.
 #include <benchmark/benchmark.h>
 
 #include <cmath>

@@ -1,5 +1,6 @@
-// sensor_bias throughput: the drive-train + 3 pitch observers per turbine-sample (target >= 5 million/s per core),
-// the full per-sample estimator (with the aerodynamic-torque model), and the LMI design time of both subsystems.
+// sensor_bias throughput: the drive-train + 3 pitch observers per turbine-sample (target >= 5 million/s per
+// core), the full per-sample estimator (with the aerodynamic-torque model), and the LMI design time of both
+// subsystems.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -29,7 +30,8 @@ static void BM_ObserverKernel(benchmark::State& state) {
   for (auto _ : state) {
     const double v = w[i];
     dt.step(Eigen::Vector3d(1.7 + 0.01 * v, 162.0 + v, 162.0 - v), Eigen::Vector2d(2.8e6 + 1e5 * v, 2.9e4));
-    for (auto& o : pitch) o.step(Eigen::Matrix<double, 1, 1>(10.0 + v), Eigen::Matrix<double, 1, 1>(10.0 + v));
+    for (auto& o : pitch)
+      o.step(Eigen::Matrix<double, 1, 1>(10.0 + v), Eigen::Matrix<double, 1, 1>(10.0 + v));
     i = (i + 1) & 4095;
   }
   benchmark::DoNotOptimize(dt.state());

@@ -20,8 +20,8 @@ namespace {
 bool print_events = false;  // --events: every run's events, for a look at what went wrong
 
 struct Run {
-  double rms = 0, max = 0;  // relative inertia error after `settled` s
-  double max_over = 0;      // largest overestimate after `settled` s (relative)
+  double rms = 0, max = 0;     // relative inertia error after `settled` s
+  double max_over = 0;         // largest overestimate after `settled` s (relative)
   uint64_t power_changes = 0;  // steps in the aerodynamics the estimator saw
   std::vector<FaultEvent> events;
 };
@@ -164,9 +164,11 @@ int main(int argc, char** argv) {
         for (const auto& e : r.events) critical += e.raised && e.severity == "critical";
         ++runs;
       }
-    std::printf("fast accretion (2500 kg in 60 s at 500 s, 8/10/12 m/s): worst overestimate %.1f %% of the true inertia, "
-                "%d critical of %d runs\n",
-                100 * worst_over, critical, runs);
+    std::printf(
+        "fast accretion (2500 kg in 60 s at 500 s, 8/10/12 m/s): worst overestimate %.1f %% of the true "
+        "inertia, "
+        "%d critical of %d runs\n",
+        100 * worst_over, critical, runs);
   }
 
   std::printf("\nfalse alarms in %.0f s healthy:", healthy_seconds);

@@ -24,8 +24,8 @@
 
 namespace windfdi::bench {
 
-// A TurbineFrame writer on `out` and reader on `in`, both with the sensor_stream profile of wt/frame (reliable
-// keep-last); `on_sample` runs in the reader's listener thread for every valid sample.
+// A TurbineFrame writer on `out` and reader on `in`, both with the sensor_stream profile of wt/frame
+// (reliable keep-last); `on_sample` runs in the reader's listener thread for every valid sample.
 class PingEndpoints : public eprosima::fastdds::dds::DataReaderListener {
  public:
   PingEndpoints(bus::Participant& p, const std::string& out, const std::string& in,

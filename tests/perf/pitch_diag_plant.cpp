@@ -49,9 +49,10 @@ std::vector<PitchEvent> diagnose(const PitchDiagConfig& cfg, const std::vector<F
 // by the recorded reference from rest at the onset, give outputs whose summed squared difference reaches 25
 // noise variances (0.2 deg): the log-likelihood ratio an oracle knowing both models would have, the same 5
 // sigma the bank's evidence_min asks. While the reference stands still (fine pitch below rated) no method can
-// see the fault, so the 10 s target is also measured from here. The time (s), NaN when not within the recording.
-double first_information(const std::vector<FrameSample>& rec, int blade, double t_on, const Signature& healthy,
-                         const Signature& fault) {
+// see the fault, so the 10 s target is also measured from here. The time (s), NaN when not within the
+// recording.
+double first_information(const std::vector<FrameSample>& rec, int blade, double t_on,
+                         const Signature& healthy, const Signature& fault) {
   // The plant's own actuator (RK4, with the turbine's rate and angle limits), one per hypothesis.
   const TurbineParams p;
   plant::PitchActuator h, f;
@@ -173,10 +174,11 @@ int main(int argc, char** argv) {
         ++wrong;
       }
       if (verbose && (first->fault != r.fault || first->t - t_on > 10.0))
-        std::printf("  %s: %s on blade %d at %.0f m/s: first %s on %s after %.1f s (%.1f s after the first "
-                    "information)\n",
-                    method_name(m), r.fault.c_str(), r.blade + 1, r.wind, first->fault.c_str(),
-                    first->component.c_str(), first->t - t_on, first->t - t_info);
+        std::printf(
+            "  %s: %s on blade %d at %.0f m/s: first %s on %s after %.1f s (%.1f s after the first "
+            "information)\n",
+            method_name(m), r.fault.c_str(), r.blade + 1, r.wind, first->fault.c_str(),
+            first->component.c_str(), first->t - t_on, first->t - t_info);
     }
     std::string false_alarms;
     for (const auto& [wind, rec] : healthy) {

@@ -6,9 +6,10 @@
 //   of deploy/qos/windfdi_qos.xml). For every sample of every frame it keeps the frame's source time stamp
 //   (the plant's wall clock when it wrote the frame; same host, same clock). blade_load's FaultReport carries
 //   in `t` the sample time of the sample that made the fault decidable (invalid for invalid_time), so
-//     latency to the report        = arrival of the raised FaultReport here   - source time of the frame with t
-//     latency to the configuration = arrival here of the first ControlConfiguration of that turbine whose
-//                                    reasons newly contain (blade_load, blade_moment_sensor_3, sensor_invalid)
+//     latency to the report        = arrival of the raised FaultReport here   - source time of the frame with
+//     t latency to the configuration = arrival here of the first ControlConfiguration of that turbine whose
+//                                    reasons newly contain (blade_load, blade_moment_sensor_3,
+//                                    sensor_invalid)
 //                                    - the same source time.
 //   This program reads wt/control/config exactly as the plant does, so its arrival time stands for "at the
 //   plant". Baseline: raw Fast DDS one-way latency (round trip / 2) between this process and an echo child
@@ -70,7 +71,8 @@ double mono_s() {
 double pct(std::vector<double> v, double q) {
   if (v.empty()) return NAN;
   std::sort(v.begin(), v.end());
-  const std::size_t i = std::min(v.size() - 1, static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size()))) - (q > 0 ? 1 : 0));
+  const std::size_t i = std::min(
+      v.size() - 1, static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size()))) - (q > 0 ? 1 : 0));
   return v[i];
 }
 
@@ -154,8 +156,8 @@ pid_t start_echo(int domain) {
 
 void print_dist(const char* what, const std::vector<double>& v, std::size_t expected = 0) {
   std::printf("%-34s n=%zu%s p50 %8.1f us  p99 %8.1f us  max %8.1f us\n", what, v.size(),
-              expected ? (" of " + std::to_string(expected)).c_str() : "", pct(v, 0.5) * 1e6, pct(v, 0.99) * 1e6,
-              pct(v, 1.0) * 1e6);
+              expected ? (" of " + std::to_string(expected)).c_str() : "", pct(v, 0.5) * 1e6,
+              pct(v, 0.99) * 1e6, pct(v, 1.0) * 1e6);
 }
 
 // ---------------------------------------------------------------- latency mode
@@ -280,22 +282,24 @@ int run_latency(int domain, double duration, const std::string& component, const
         }
       if (!found) ++no_config;
     }
-    std::printf("frames %llu, fault reports %llu, configurations %llu; raised %s/%s/sensor_invalid %zu "
-                "(%zu without their frame, %zu without a new configuration)\n",
-                static_cast<unsigned long long>(n_frames), static_cast<unsigned long long>(n_reports),
-                static_cast<unsigned long long>(n_configs), source.c_str(), component.c_str(), raised.size(),
-                no_frame, no_config);
+    std::printf(
+        "frames %llu, fault reports %llu, configurations %llu; raised %s/%s/sensor_invalid %zu "
+        "(%zu without their frame, %zu without a new configuration)\n",
+        static_cast<unsigned long long>(n_frames), static_cast<unsigned long long>(n_reports),
+        static_cast<unsigned long long>(n_configs), source.c_str(), component.c_str(), raised.size(),
+        no_frame, no_config);
     print_dist("raw one-way, loaded (100 Hz)", loaded);
     print_dist("decisive frame -> FaultReport", to_report);
     print_dist("decisive frame -> ControlConfig", to_config);
     const double b50 = pct(loaded, 0.5), b99 = pct(loaded, 0.99);
-    std::printf("system_latency: to FaultReport p50 %.2f ms (x%.0f raw), p99 %.2f ms (x%.0f raw); "
-                "to ControlConfiguration p50 %.2f ms (x%.0f raw), p99 %.2f ms (x%.0f raw); "
-                "raw one-way in the same run p50 %.1f us, p99 %.1f us (idle %.1f / %.1f us)\n",
-                pct(to_report, 0.5) * 1e3, pct(to_report, 0.5) / b50, pct(to_report, 0.99) * 1e3,
-                pct(to_report, 0.99) / b99, pct(to_config, 0.5) * 1e3, pct(to_config, 0.5) / b50,
-                pct(to_config, 0.99) * 1e3, pct(to_config, 0.99) / b99, b50 * 1e6, b99 * 1e6,
-                pct(idle, 0.5) * 1e6, pct(idle, 0.99) * 1e6);
+    std::printf(
+        "system_latency: to FaultReport p50 %.2f ms (x%.0f raw), p99 %.2f ms (x%.0f raw); "
+        "to ControlConfiguration p50 %.2f ms (x%.0f raw), p99 %.2f ms (x%.0f raw); "
+        "raw one-way in the same run p50 %.1f us, p99 %.1f us (idle %.1f / %.1f us)\n",
+        pct(to_report, 0.5) * 1e3, pct(to_report, 0.5) / b50, pct(to_report, 0.99) * 1e3,
+        pct(to_report, 0.99) / b99, pct(to_config, 0.5) * 1e3, pct(to_config, 0.5) / b50,
+        pct(to_config, 0.99) * 1e3, pct(to_config, 0.99) / b99, b50 * 1e6, b99 * 1e6, pct(idle, 0.5) * 1e6,
+        pct(idle, 0.99) * 1e6);
     if (to_report.empty()) rc = 1;
   }
   kill(echo, SIGTERM);
@@ -362,14 +366,15 @@ int run_health(int domain, double duration, double warmup, int turbines) {
     if (frames_in && std::string(svc) != "plant") ok = ok && max_lag < 0.5 && growth < 0.1;
     all_ok = all_ok && ok;
     if (frames_in)
-      std::printf("%-12s %s turbines %d/%d, samples in %.0f/s of %.0f/s (%.1f %%), new gaps %llu, rejected %llu, "
-                  "lag p50 %.3f s max %.3f s, lag growth %.3f s\n",
-                  svc, ok ? "OK  " : "LAGS", seen, turbines, rate, expected_rate, 100 * rate / expected_rate,
-                  static_cast<unsigned long long>(gaps), static_cast<unsigned long long>(rejected),
-                  pct(lags, 0.5), max_lag, growth);
+      std::printf(
+          "%-12s %s turbines %d/%d, samples in %.0f/s of %.0f/s (%.1f %%), new gaps %llu, rejected %llu, "
+          "lag p50 %.3f s max %.3f s, lag growth %.3f s\n",
+          svc, ok ? "OK  " : "LAGS", seen, turbines, rate, expected_rate, 100 * rate / expected_rate,
+          static_cast<unsigned long long>(gaps), static_cast<unsigned long long>(rejected), pct(lags, 0.5),
+          max_lag, growth);
     else
-      std::printf("%-12s %s health reports from %d instance(s), new gaps %llu\n", svc, ok ? "OK  " : "LAGS", seen,
-                  static_cast<unsigned long long>(gaps));
+      std::printf("%-12s %s health reports from %d instance(s), new gaps %llu\n", svc, ok ? "OK  " : "LAGS",
+                  seen, static_cast<unsigned long long>(gaps));
   }
   std::printf("KEEPS_UP %d\n", all_ok ? 1 : 0);
   return 0;

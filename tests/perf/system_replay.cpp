@@ -116,8 +116,8 @@ int main(int argc, char** argv) {
     };
     uint64_t events = 0;
     std::vector<FaultEvent> produced;
-    // The estimates the closed loop reads: sensor_bias's corrected generator speed (the plant's controller) and
-    // ice_detect's inertia (the arbiter's ice-adapted controller).
+    // The estimates the closed loop reads: sensor_bias's corrected generator speed (the plant's controller)
+    // and ice_detect's inertia (the arbiter's ice-adapted controller).
     const Service& bias = services[1];
     const Service& ice = services[3];
     const auto bias_corrected = static_cast<std::size_t>(column_of(bias.spec, "corrected_generator_speed"));
@@ -140,8 +140,7 @@ int main(int argc, char** argv) {
         std::vector<std::string> values;
         if (d->estimate_due(values)) {
           if (&svc == &bias) {
-            turbine.corrected_generator_speed =
-                std::stod(values.at(bias_corrected));
+            turbine.corrected_generator_speed = std::stod(values.at(bias_corrected));
             turbine.corrected_at = s.t;
           } else if (&svc == &ice) {
             const double inertia = std::stod(values.at(ice_inertia));

@@ -2,8 +2,8 @@
 #include "process.hpp"
 
 #include <fcntl.h>
-#include <sys/file.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -33,12 +33,12 @@ std::string read_file(const std::string& path) {
 int counter = 0;
 }  // namespace
 
-ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::map<std::string, std::string>& env,
-                           const std::string& log_prefix) {
+ChildProcess::ChildProcess(const std::vector<std::string>& argv,
+                           const std::map<std::string, std::string>& env, const std::string& log_prefix) {
   if (argv.empty()) throw std::invalid_argument("ChildProcess: empty argv");
-  const std::string base = (fs::temp_directory_path() / ("windfdi-" + std::to_string(getpid()) + "-" +
-                                                         (log_prefix.empty() ? "child" : log_prefix) + "-" +
-                                                         std::to_string(counter++)))
+  const std::string base = (fs::temp_directory_path() /
+                            ("windfdi-" + std::to_string(getpid()) + "-" +
+                             (log_prefix.empty() ? "child" : log_prefix) + "-" + std::to_string(counter++)))
                                .string();
   out_path_ = base + ".out";
   err_path_ = base + ".err";
@@ -113,8 +113,8 @@ std::string ChildProcess::stderr_text() const { return read_file(err_path_); }
 
 int private_domain(int salt) {
   // Tests run in parallel (ctest -j): a hash of pid and salt alone once gave two concurrent tests the same
-  // domain (each saw the other's plant, and each one's clean-up removed the other's shared memory). A domain is
-  // taken by an exclusive flock on /tmp/windfdi-test-domain-N.lock, held by this process until it exits (a
+  // domain (each saw the other's plant, and each one's clean-up removed the other's shared memory). A domain
+  // is taken by an exclusive flock on /tmp/windfdi-test-domain-N.lock, held by this process until it exits (a
   // crash releases it); the hash only picks where the search starts.
   static std::vector<int> held;  // lock descriptors, open for the life of the process
   const int start = static_cast<int>((getpid() * 7 + salt * 13) % 200);
@@ -138,9 +138,9 @@ int remove_stale_shm(int domain) {
   // User-data and metatraffic port files: port = 7400 + 250 * domain + offsets (docs/fastdds.md).
   for (int offset = 0; offset < 250; ++offset) {
     const int port = 7400 + 250 * domain + offset;
-    for (const std::string& name : std::vector<std::string>{"fastrtps_port" + std::to_string(port),
-                                   "fastrtps_port" + std::to_string(port) + "_el",
-                                   "sem.fastrtps_port" + std::to_string(port) + "_mutex"}) {
+    for (const std::string& name : std::vector<std::string>{
+             "fastrtps_port" + std::to_string(port), "fastrtps_port" + std::to_string(port) + "_el",
+             "sem.fastrtps_port" + std::to_string(port) + "_mutex"}) {
       if (fs::remove(fs::path("/dev/shm") / name, ec)) ++removed;
     }
   }

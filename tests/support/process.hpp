@@ -1,10 +1,11 @@
 // Test support: child processes that are always stopped, private DDS domain ids, shm leftovers removed.
 #pragma once
 
+#include <sys/types.h>
+
 #include <chrono>
 #include <map>
 #include <string>
-#include <sys/types.h>
 #include <vector>
 
 namespace windfdi::test {

@@ -5,12 +5,11 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "process.hpp"
 
@@ -48,9 +47,10 @@ inline std::string read_file(const std::string& path) {
   return ss.str();
 }
 
-/// Everything the farm monitor's database at `db` holds (`windfdi-farm history --json`), one object per event;
-/// empty when the history command fails or hangs (it is given 20 s).
-inline std::vector<nlohmann::json> farm_history(const std::string& db, const std::map<std::string, std::string>& env) {
+/// Everything the farm monitor's database at `db` holds (`windfdi-farm history --json`), one object per
+/// event; empty when the history command fails or hangs (it is given 20 s).
+inline std::vector<nlohmann::json> farm_history(const std::string& db,
+                                                const std::map<std::string, std::string>& env) {
   ChildProcess h({bin("windfdi-farm"), "--db", db, "history", "--json"}, env, "history");
   if (h.wait(std::chrono::seconds(20)) != 0) return {};
   return json_lines(h.stdout_text());
@@ -59,7 +59,7 @@ inline std::vector<nlohmann::json> farm_history(const std::string& db, const std
 /// What a service said when it replayed a recording with a malformed third line.
 struct MalformedReplay {
   int exit_code;
-  std::string file;    ///< the recording's path, which the error must name
+  std::string file;  ///< the recording's path, which the error must name
   std::string stderr_text;
 };
 

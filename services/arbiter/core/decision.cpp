@@ -12,25 +12,34 @@ namespace windfdi::arbiter {
 
 const char* to_string(Mode m) {
   switch (m) {
-    case Mode::kNormal: return "normal";
-    case Mode::kDegraded: return "degraded";
-    case Mode::kSafeStop: return "safe_stop";
+    case Mode::kNormal:
+      return "normal";
+    case Mode::kDegraded:
+      return "degraded";
+    case Mode::kSafeStop:
+      return "safe_stop";
   }
   return "?";
 }
 const char* to_string(IpcSource s) {
   switch (s) {
-    case IpcSource::kStrainGauge: return "strain_gauge";
-    case IpcSource::kLidarModel: return "lidar_model";
-    case IpcSource::kOff: return "off";
+    case IpcSource::kStrainGauge:
+      return "strain_gauge";
+    case IpcSource::kLidarModel:
+      return "lidar_model";
+    case IpcSource::kOff:
+      return "off";
   }
   return "?";
 }
 const char* to_string(IceMode m) {
   switch (m) {
-    case IceMode::kNormal: return "normal";
-    case IceMode::kAdapted: return "adapted";
-    case IceMode::kStop: return "stop";
+    case IceMode::kNormal:
+      return "normal";
+    case IceMode::kAdapted:
+      return "adapted";
+    case IceMode::kStop:
+      return "stop";
   }
   return "?";
 }
@@ -60,7 +69,8 @@ ArbiterConfig load_arbiter_config(const YamlSection& s) {
 }
 
 bool Configuration::operator==(const Configuration& o) const {
-  return mode == o.mode && ipc_source == o.ipc_source && use_corrected_rotor_speed == o.use_corrected_rotor_speed &&
+  return mode == o.mode && ipc_source == o.ipc_source &&
+         use_corrected_rotor_speed == o.use_corrected_rotor_speed &&
          use_corrected_generator_speed == o.use_corrected_generator_speed &&
          use_corrected_pitch == o.use_corrected_pitch && pitch_rate_limit == o.pitch_rate_limit &&
          ice_mode == o.ice_mode && inertia == o.inertia && reasons == o.reasons;
@@ -71,9 +81,10 @@ Arbiter::Arbiter(const ArbiterConfig& config) : config_(config) {}
 namespace {
 std::string cause_key(const FaultEvent& e) { return e.source + "/" + e.component + "/" + e.fault; }
 bool starts_with(const std::string& s, const char* p) { return s.rfind(p, 0) == 0; }
-// A leak stops the turbine only when pitch_diag calls it critical: far enough along its path that it cannot be
-// the pump wear (or a misread high air content) it shares the point alpha 0.5 with. Measured on the multi-fault
-// suite: two such flips held "fault" for the class-settle time and stopped healthy-enough turbines.
+// A leak stops the turbine only when pitch_diag calls it critical: far enough along its path that it cannot
+// be the pump wear (or a misread high air content) it shares the point alpha 0.5 with. Measured on the
+// multi-fault suite: two such flips held "fault" for the class-settle time and stopped healthy-enough
+// turbines.
 bool stop_severity(const std::string& severity) { return severity == "critical"; }
 }  // namespace
 
@@ -161,7 +172,9 @@ void demand(E& current, E wanted) {
 
 void Arbiter::apply(Cause& cause, double now, Configuration& cfg) {
   const FaultEvent& e = cause.event;
-  auto reason = [&](const std::string& action) { cfg.reasons.push_back({e.source, e.component, e.fault, action}); };
+  auto reason = [&](const std::string& action) {
+    cfg.reasons.push_back({e.source, e.component, e.fault, action});
+  };
   const int blade = blade_index(e.component);
 
   if (starts_with(e.component, "blade_moment_sensor_")) {
@@ -243,7 +256,9 @@ void Arbiter::apply(Cause& cause, double now, Configuration& cfg) {
 }
 
 void Arbiter::apply_service_lost(const std::string& service, Configuration& cfg) const {
-  auto reason = [&](const std::string& action) { cfg.reasons.push_back({service, service, "service_lost", action}); };
+  auto reason = [&](const std::string& action) {
+    cfg.reasons.push_back({service, service, "service_lost", action});
+  };
   if (service == "blade_load") {
     // Nobody watches the strain gauges or the LIDAR: individual pitch control is off.
     cfg.ipc_source = IpcSource::kOff;
@@ -297,7 +312,8 @@ Configuration Arbiter::evaluate(double now) {
   for (const auto& [service, t] : lost_services_) apply_service_lost(service, cfg);
   if (cfg.ice_mode == IceMode::kAdapted) cfg.inertia = inertia_;
   std::sort(cfg.reasons.begin(), cfg.reasons.end(), [](const Reason& a, const Reason& b) {
-    return std::tie(a.source, a.component, a.fault, a.action) < std::tie(b.source, b.component, b.fault, b.action);
+    return std::tie(a.source, a.component, a.fault, a.action) <
+           std::tie(b.source, b.component, b.fault, b.action);
   });
   cfg.reasons.erase(std::unique(cfg.reasons.begin(), cfg.reasons.end()), cfg.reasons.end());
   return cfg;

@@ -27,13 +27,13 @@ const char* to_string(IpcSource s);
 const char* to_string(IceMode m);
 
 struct ArbiterConfig {
-  double clear_hold = 30.0;             ///< s a cause must stay clear before its action is withdrawn (0..3600)
-  double nominal_pitch_rate = 10.0;     ///< deg/s, pitch rate limit of a healthy blade (1..30)
-  double derated_pitch_rate = 5.0;      ///< deg/s, limit for pump wear / high air content (0.5..30)
+  double clear_hold = 30.0;          ///< s a cause must stay clear before its action is withdrawn (0..3600)
+  double nominal_pitch_rate = 10.0;  ///< deg/s, pitch rate limit of a healthy blade (1..30)
+  double derated_pitch_rate = 5.0;   ///< deg/s, limit for pump wear / high air content (0.5..30)
   double rotor_speed_bias_limit = 0.1;  ///< rad/s; a larger rotor speed bias is not trusted (degraded mode)
   double generator_speed_bias_limit = 10.0;  ///< rad/s; likewise for the generator speed
-  double pitch_bias_limit = 3.0;        ///< deg; likewise for a pitch sensor
-  bool has_lidar = true;                ///< the turbine carries a LIDAR (IPC can fall back to its model)
+  double pitch_bias_limit = 3.0;             ///< deg; likewise for a pitch sensor
+  bool has_lidar = true;                     ///< the turbine carries a LIDAR (IPC can fall back to its model)
   /// Relative change of the inertia estimate that re-tunes the ice-adapted controller (0..0.5). Each 1 Hz
   /// estimate used to be a new configuration: 30 revisions a second at 30x, a controller re-tuned on noise.
   double inertia_step = 0.02;
@@ -52,10 +52,10 @@ ArbiterConfig load_arbiter_config(const YamlSection& section);
 
 /// Why one part of the configuration is what it is.
 struct Reason {
-  std::string source;     ///< service that reported (or "arbiter" for its own conclusions)
+  std::string source;  ///< service that reported (or "arbiter" for its own conclusions)
   std::string component;
-  std::string fault;      ///< canonical fault class
-  std::string action;     ///< e.g. "ipc_source=lidar_model"
+  std::string fault;   ///< canonical fault class
+  std::string action;  ///< e.g. "ipc_source=lidar_model"
   bool operator==(const Reason& o) const {
     return source == o.source && component == o.component && fault == o.fault && action == o.action;
   }
@@ -69,8 +69,8 @@ struct Configuration {
   std::array<bool, 3> use_corrected_pitch{false, false, false};
   std::array<double, 3> pitch_rate_limit{10.0, 10.0, 10.0};  ///< deg/s
   IceMode ice_mode = IceMode::kNormal;
-  double inertia = 0.0;            ///< kg m^2 for the adapted controller (0: nominal)
-  std::vector<Reason> reasons;     ///< sorted
+  double inertia = 0.0;         ///< kg m^2 for the adapted controller (0: nominal)
+  std::vector<Reason> reasons;  ///< sorted
   /// Same control content and reasons (the revision is the node's business).
   bool operator==(const Configuration& o) const;
   bool operator!=(const Configuration& o) const { return !(*this == o); }
@@ -104,9 +104,9 @@ class Arbiter {
 
  private:
   struct Cause {
-    FaultEvent event;          ///< the latest report of this (source, component, fault)
+    FaultEvent event;  ///< the latest report of this (source, component, fault)
     bool raised = false;
-    double cleared_at = 0.0;   ///< arbiter time of the clear
+    double cleared_at = 0.0;      ///< arbiter time of the clear
     double severity_since = 0.0;  ///< arbiter time from which the report has held its present severity
     bool latched = false;         ///< a confirmed stop (or critical fault): acts until acknowledged
   };

@@ -1,4 +1,5 @@
-// Blade-root moment sensor monitoring (Stotsky 2014): estimators, residual channels, tests, classes, adaptation.
+// Blade-root moment sensor monitoring (Stotsky 2014): estimators, residual channels, tests, classes,
+// adaptation.
 #include "blade_load_monitor.hpp"
 
 #include <algorithm>
@@ -75,7 +76,8 @@ bool BladeLoadMonitor::update(const FrameSample& s, bool gap, std::vector<FaultE
   if (gap) reset_windows();
   // The LIDAR history is kept through a standstill: resuming with a stale one read as a lost LIDAR.
   if ((s.valid_mask & kValidLidar)) lidar_.add_lidar(t, s.lidar_v_upper, s.lidar_v_lower);
-  const bool speed_ok = std::isfinite(s.rotor_speed) && (s.valid_mask & kValidRotorSpeed) && s.rotor_speed <= 5.0;
+  const bool speed_ok =
+      std::isfinite(s.rotor_speed) && (s.valid_mask & kValidRotorSpeed) && s.rotor_speed <= 5.0;
   if (!speed_ok || !std::isfinite(s.azimuth) || !(s.valid_mask & kValidAzimuth) ||
       s.rotor_speed < cfg_.min_rotor_speed) {
     ++rejected_;
@@ -88,7 +90,8 @@ bool BladeLoadMonitor::update(const FrameSample& s, bool gap, std::vector<FaultE
   std::array<bool, 3> m_ok{};
   for (int b = 0; b < 3; ++b) {
     const double m = s.blade_moment[b];
-    m_ok[b] = std::isfinite(m) && std::fabs(m) <= cfg_.max_moment && (s.valid_mask & (kValidBladeMoment1 << b));
+    m_ok[b] =
+        std::isfinite(m) && std::fabs(m) <= cfg_.max_moment && (s.valid_mask & (kValidBladeMoment1 << b));
     BladeState& B = blades_[b];
     if (m_ok[b]) {
       if (B.invalid_raised) {
@@ -128,9 +131,11 @@ bool BladeLoadMonitor::update(const FrameSample& s, bool gap, std::vector<FaultE
   }
   std::array<double, 3> mm{};
   const bool model_ok = lidar_.moments(t, s.rotor_speed, s.azimuth, pitch, mm);
-  // Steep-surface gate on the low-passed pitch (lambda of the last delayed LIDAR value; none before the first).
+  // Steep-surface gate on the low-passed pitch (lambda of the last delayed LIDAR value; none before the
+  // first).
   {
-    const double a = cfg_.gate_pitch_filter > 0 ? cfg_.harmonic.dt / (cfg_.gate_pitch_filter + cfg_.harmonic.dt) : 1.0;
+    const double a =
+        cfg_.gate_pitch_filter > 0 ? cfg_.harmonic.dt / (cfg_.gate_pitch_filter + cfg_.harmonic.dt) : 1.0;
     bool steep = false;
     for (int b = 0; b < 3; ++b) {
       pitch_lp_[b] = std::isfinite(pitch_lp_[b]) ? pitch_lp_[b] + a * (pitch[b] - pitch_lp_[b]) : pitch[b];
@@ -219,7 +224,8 @@ bool BladeLoadMonitor::update(const FrameSample& s, bool gap, std::vector<FaultE
 
 double BladeLoadMonitor::model_sensitivity(double lambda, double pitch_deg) const {
   const double d = cfg_.gate_pitch_margin;
-  const double k0 = table_.k(lambda, pitch_deg - d), k1 = table_.k(lambda, pitch_deg), k2 = table_.k(lambda, pitch_deg + d);
+  const double k0 = table_.k(lambda, pitch_deg - d), k1 = table_.k(lambda, pitch_deg),
+               k2 = table_.k(lambda, pitch_deg + d);
   const double hi = std::max({k0, k1, k2}), lo = std::min({k0, k1, k2});
   return hi > 0 ? (hi - lo) / hi : 0.0;
 }
@@ -277,7 +283,8 @@ void BladeLoadMonitor::channel_values(BladeChannels& x) const {
     if (all_models && std::isfinite(x[0][kModelChannel]) && std::isfinite(x[1][kModelChannel]) &&
         std::isfinite(x[2][kModelChannel])) {
       x[b][kWitnessChannel] = d[b] - avg_others(d, b);
-      // Mean load (docs/papers.md, Stotsky 2014: an offset leaves the first harmonic unchanged), model-normalised.
+      // Mean load (docs/papers.md, Stotsky 2014: an offset leaves the first harmonic unchanged),
+      // model-normalised.
       x[b][kMeanChannel] = r[b] - avg_others(r, b);
     }
     x[b][kRawWitnessChannel] = (a_sensor_[b] - avg_others(a_sensor_, b)) / mean_all;
@@ -289,13 +296,19 @@ bool BladeLoadMonitor::standalone(int c) const {
   const bool model_on = lidar_ok_ && healthy_[0][kModelChannel].learned;
   const bool mean_on = lidar_ok_ && healthy_[0][kMeanChannel].learned;
   switch (c) {
-    case kModelChannel: return model_on;
-    case kWitnessChannel: return false;  // it only confirms the LIDAR residual
-    case kMeanChannel: return cfg_.mean_test && mean_on;
+    case kModelChannel:
+      return model_on;
+    case kWitnessChannel:
+      return false;  // it only confirms the LIDAR residual
+    case kMeanChannel:
+      return cfg_.mean_test && mean_on;
     // The sensor-only channels stand in for a lost LIDAR, not for LIDAR channels still learning: they learn
-    // about 10 s earlier (no D/V delay), and judging alone in that gap raised a false alarm at 207 s (16 m/s).
-    case kRawWitnessChannel: return !lidar_ok_;
-    case kRawMeanChannel: return cfg_.mean_test && !lidar_ok_;
+    // about 10 s earlier (no D/V delay), and judging alone in that gap raised a false alarm at 207 s (16
+    // m/s).
+    case kRawWitnessChannel:
+      return !lidar_ok_;
+    case kRawMeanChannel:
+      return cfg_.mean_test && !lidar_ok_;
   }
   return false;
 }
@@ -360,7 +373,8 @@ void BladeLoadMonitor::revolution(double t, std::vector<FaultEvent>& events) {
   last_x_ = x;
   if (gated()) ++gated_revolutions_;
   update_noise(x);
-  const std::size_t keep = static_cast<std::size_t>(std::max(cfg_.drift_window, cfg_.abrupt_lookback + 1) + 1);
+  const std::size_t keep =
+      static_cast<std::size_t>(std::max(cfg_.drift_window, cfg_.abrupt_lookback + 1) + 1);
   for (int b = 0; b < 3; ++b) {
     BladeState& B = blades_[b];
     B.history.push_back(x[b]);
@@ -442,12 +456,13 @@ void BladeLoadMonitor::revolution(double t, std::vector<FaultEvent>& events) {
         if (!others_quiet) continue;
       } else {
         // Single-fault isolation as in the outlier test, on the window means' shifts (N m per N m, not t: the
-        // blades' healthy spreads differ): a faulty blade shifts its own cross residual by delta and the others'
-        // by -delta / 2, so it must differ from EACH other blade in the direction of its own shift.
+        // blades' healthy spreads differ): a faulty blade shifts its own cross residual by delta and the
+        // others' by -delta / 2, so it must differ from EACH other blade in the direction of its own shift.
         const double dev = wm[b][c] - 0.5 * (wm[(b + 1) % 3][c] + wm[(b + 2) % 3][c]);
         bool isolated = std::isfinite(dev);
         for (int o = 0; o < 3 && isolated; ++o)
-          if (o != b && !((wm[b][c] - wm[o][c]) * (dev > 0 ? 1.0 : -1.0) >= cfg_.isolation_ratio * std::fabs(dev)))
+          if (o != b &&
+              !((wm[b][c] - wm[o][c]) * (dev > 0 ? 1.0 : -1.0) >= cfg_.isolation_ratio * std::fabs(dev)))
             isolated = false;
         if (!isolated) continue;
       }
@@ -501,8 +516,9 @@ void BladeLoadMonitor::maybe_adapt(double t) {
     return;
   }
   // A segment holds one operating point: when it moves, start a new segment at this revolution.
-  if (adapt_n_ > 0 && (std::max(adapt_lmax_, lambda) - std::min(adapt_lmin_, lambda) > cfg_.adapt_max_lambda_spread ||
-                       std::max(adapt_pmax_, pitch) - std::min(adapt_pmin_, pitch) > cfg_.adapt_max_pitch_spread))
+  if (adapt_n_ > 0 &&
+      (std::max(adapt_lmax_, lambda) - std::min(adapt_lmin_, lambda) > cfg_.adapt_max_lambda_spread ||
+       std::max(adapt_pmax_, pitch) - std::min(adapt_pmin_, pitch) > cfg_.adapt_max_pitch_spread))
     adapt_n_ = 0;
   if (adapt_n_ == 0) {
     adapt_sensor_ = adapt_model_ = adapt_lsum_ = adapt_psum_ = 0.0;
@@ -518,10 +534,12 @@ void BladeLoadMonitor::maybe_adapt(double t) {
   adapt_lsum_ += lambda;
   adapt_psum_ += pitch;
   if (++adapt_n_ < cfg_.adapt_revolutions) return;
-  // Uniform wind over a long segment: the model's mean load should equal the sensors' (Stotsky 2014, last section).
+  // Uniform wind over a long segment: the model's mean load should equal the sensors' (Stotsky 2014, last
+  // section).
   const double l = adapt_lsum_ / adapt_n_, p = adapt_psum_ / adapt_n_;
   const double target = table_.factor(l, p) * adapt_sensor_ / adapt_model_;
-  table_.adapt(l, p, target, cfg_.adapt_gain, cfg_.adapt_sigma_lambda, cfg_.adapt_sigma_pitch, cfg_.adapt_bound);
+  table_.adapt(l, p, target, cfg_.adapt_gain, cfg_.adapt_sigma_lambda, cfg_.adapt_sigma_pitch,
+               cfg_.adapt_bound);
   ++adaptations_;
   adapt_n_ = 0;
 }
@@ -552,7 +570,8 @@ void BladeLoadMonitor::tick(double t, std::vector<FaultEvent>& events) {
   for (int b = 0; b < 3; ++b)
     for (int c = 0; c < kChannels; ++c) {
       tv[b][c] = healthy_[b][c].learned && std::isfinite(x[b][c]) ? channel_t(b, c, x[b][c]) : kNaN;
-      if (std::isfinite(tv[b][c]) && crit_[c] > 0) max_ratio_[c] = std::max(max_ratio_[c], std::fabs(tv[b][c]) / crit_[c]);
+      if (std::isfinite(tv[b][c]) && crit_[c] > 0)
+        max_ratio_[c] = std::max(max_ratio_[c], std::fabs(tv[b][c]) / crit_[c]);
     }
   // Per blade: which eligible channels exceed now, and for how long each has done so with the same sign.
   // A sensor fault is on ONE blade and stays: it must persist for confirm_time and at least
@@ -566,7 +585,8 @@ void BladeLoadMonitor::tick(double t, std::vector<FaultEvent>& events) {
     bool above_onset = false;  // some channel in a same-sign run above the onset level
     for (int c = 0; c < kChannels; ++c) {
       const double v = tv[b][c];
-      // A run starts at the onset level (onset_ratio of the critical value); raising needs the critical value.
+      // A run starts at the onset level (onset_ratio of the critical value); raising needs the critical
+      // value.
       bool exceeds = std::isfinite(v) && std::fabs(v) > cfg_.onset_ratio * crit_[c] && standalone(c);
       if (exceeds && c == kModelChannel) {
         exceeds = cfg_.witness != Witness::kConfirm ||
@@ -588,7 +608,8 @@ void BladeLoadMonitor::tick(double t, std::vector<FaultEvent>& events) {
         // and never persistently with one sign.
         const double dev = x[b][c] - 0.5 * (x[(b + 1) % 3][c] + x[(b + 2) % 3][c]);
         for (int o = 0; o < 3; ++o)
-          if (o != b && !((x[b][c] - x[o][c]) * (dev > 0 ? 1.0 : -1.0) >= cfg_.isolation_ratio * std::fabs(dev)))
+          if (o != b &&
+              !((x[b][c] - x[o][c]) * (dev > 0 ? 1.0 : -1.0) >= cfg_.isolation_ratio * std::fabs(dev)))
             exceeds = false;
       }
       const int sign = v > 0 ? 1 : -1;
@@ -605,8 +626,10 @@ void BladeLoadMonitor::tick(double t, std::vector<FaultEvent>& events) {
       const double r = std::fabs(v) / crit_[c];
       // A large step: far above the critical value for fast_confirm_time confirms before a revolution.
       const bool fast_now = cfg_.fast_ratio > 0 && r > cfg_.fast_ratio;
-      if (!fast_now) B.fast_start[c] = -1.0;
-      else if (B.fast_start[c] < 0) B.fast_start[c] = t;
+      if (!fast_now)
+        B.fast_start[c] = -1.0;
+      else if (B.fast_start[c] < 0)
+        B.fast_start[c] = t;
       if (r <= 1.0) continue;
       if (r > best) best = r, best_c = c;
       const bool fast = fast_now && t - B.fast_start[c] >= cfg_.fast_confirm_time - 1e-9;
@@ -621,10 +644,10 @@ void BladeLoadMonitor::tick(double t, std::vector<FaultEvent>& events) {
     if (c == kModelChannel || c == kWitnessChannel) size = a_sensor_[b] - a_model_[b];
     if (c == kRawWitnessChannel) size = a_sensor_[b] - avg_others(a_sensor_, b);
     if (c == kMeanChannel)
-      size = mean_sensor_[b] - mean_model_[b] * avg_others({mean_sensor_[0] / mean_model_[0],
-                                                            mean_sensor_[1] / mean_model_[1],
-                                                            mean_sensor_[2] / mean_model_[2]},
-                                                           b);
+      size = mean_sensor_[b] -
+             mean_model_[b] * avg_others({mean_sensor_[0] / mean_model_[0], mean_sensor_[1] / mean_model_[1],
+                                          mean_sensor_[2] / mean_model_[2]},
+                                         b);
     if (c == kRawMeanChannel) size = mean_sensor_[b] - avg_others(mean_sensor_, b);
     blade_decision(b, t, B.exceeding, conf_c >= 0, c >= 0 ? tv[b][c] : 0.0, c >= 0 ? crit_[c] : 0.0, c, size,
                    events);
@@ -632,7 +655,8 @@ void BladeLoadMonitor::tick(double t, std::vector<FaultEvent>& events) {
 }
 
 void BladeLoadMonitor::blade_decision(int b, double t, bool outlier, bool outlier_confirmed, double stat,
-                                      double critical, int channel, double size, std::vector<FaultEvent>& events) {
+                                      double critical, int channel, double size,
+                                      std::vector<FaultEvent>& events) {
   BladeState& B = blades_[b];
   const bool drift = B.drift_firing;
   // The episode's evidence: the outlier test, and for a drift (raised or not yet) the moving-window test.

@@ -1,6 +1,6 @@
-// Blade-root moment sensor monitoring of one turbine (Stotsky 2014): first harmonic from each strain gauge and from
-// the LIDAR load model, t-tests on their difference with the other blades as a second witness, fault classes,
-// load-table adaptation in uniform wind, and the state a restart keeps.
+// Blade-root moment sensor monitoring of one turbine (Stotsky 2014): first harmonic from each strain gauge
+// and from the LIDAR load model, t-tests on their difference with the other blades as a second witness, fault
+// classes, load-table adaptation in uniform wind, and the state a restart keeps.
 #pragma once
 
 #include <array>
@@ -24,39 +24,40 @@ namespace windfdi::blade_load {
 enum class Witness { kOff, kConfirm };
 
 struct MonitorConfig {
-  HarmonicConfig harmonic;          ///< sensor and model estimators (eqs 3-8)
-  LoadModelConfig model;            ///< LIDAR load model (eqs 1, 9)
-  double estimate_rate = 10.0;      ///< Hz, estimates and the per-sample outlier test
-  double min_rotor_speed = 0.5;     ///< rad/s; below it (standstill, idling) nothing is estimated
-  double max_moment = 5e7;          ///< N m, |blade moment| above it is out of range (sensor_invalid)
-  double invalid_time = 1.0;        ///< s a blade moment or the LIDAR must stay invalid before sensor_invalid
+  HarmonicConfig harmonic;       ///< sensor and model estimators (eqs 3-8)
+  LoadModelConfig model;         ///< LIDAR load model (eqs 1, 9)
+  double estimate_rate = 10.0;   ///< Hz, estimates and the per-sample outlier test
+  double min_rotor_speed = 0.5;  ///< rad/s; below it (standstill, idling) nothing is estimated
+  double max_moment = 5e7;       ///< N m, |blade moment| above it is out of range (sensor_invalid)
+  double invalid_time = 1.0;     ///< s a blade moment or the LIDAR must stay invalid before sensor_invalid
   // Detection (Stotsky 2014: t-test per sample for outliers, moving-window mean test for drift).
-  double significance = 1e-8;       ///< two-sided level of the outlier t-test per 10 Hz sample (0..0.1)
-  double drift_significance = 1e-8; ///< two-sided level of the moving-window mean test per revolution
-  int drift_window = 10;            ///< revolutions in the moving-window mean
-  double learn_time = 200.0;        ///< s of healthy start-up from which each residual's distribution is learned
-                                    ///< (robust: median and MAD of one value per revolution)
-  int min_learn_revolutions = 20;   ///< and at least this many revolutions
-  double healthy_adapt_time = 3600; ///< s, time constant of the slow healthy-statistics update (0: frozen);
-                                    ///< applied only while nothing is raised on the turbine
-  double confirm_time = 1.0;        ///< s of continuous same-sign exceedance of one channel to raise (0.1..600)
-  double confirm_revolutions = 1.1; ///< and at least this many revolutions (0..20): a single-revolution transient
-                                    ///< stays in the one-revolution window for exactly one revolution
-  double onset_ratio = 0.5;         ///< a run of exceedance starts above this share of the critical value (0.1..1)
+  double significance = 1e-8;        ///< two-sided level of the outlier t-test per 10 Hz sample (0..0.1)
+  double drift_significance = 1e-8;  ///< two-sided level of the moving-window mean test per revolution
+  int drift_window = 10;             ///< revolutions in the moving-window mean
+  double learn_time = 200.0;  ///< s of healthy start-up from which each residual's distribution is learned
+                              ///< (robust: median and MAD of one value per revolution)
+  int min_learn_revolutions = 20;    ///< and at least this many revolutions
+  double healthy_adapt_time = 3600;  ///< s, time constant of the slow healthy-statistics update (0: frozen);
+                                     ///< applied only while nothing is raised on the turbine
+  double confirm_time = 1.0;  ///< s of continuous same-sign exceedance of one channel to raise (0.1..600)
+  double confirm_revolutions =
+      1.1;                   ///< and at least this many revolutions (0..20): a single-revolution transient
+                             ///< stays in the one-revolution window for exactly one revolution
+  double onset_ratio = 0.5;  ///< a run of exceedance starts above this share of the critical value (0.1..1)
   double noise_revolutions =
-      20.0;  ///< revolutions over which each residual's present noise level is followed
-             ///< (0: off): its t-values are divided by max(1, that level / the learned
-             ///< one), read from the closest pair of blades, which one fault leaves alone
-  double fast_ratio = 1.25;         ///< a large step: above this multiple of the critical value (0: off) ...
-  double fast_confirm_time = 1.0;   ///< ... continuously for this long (s) raises before confirm_revolutions
+      20.0;                  ///< revolutions over which each residual's present noise level is followed
+                             ///< (0: off): its t-values are divided by max(1, that level / the learned
+                             ///< one), read from the closest pair of blades, which one fault leaves alone
+  double fast_ratio = 1.25;  ///< a large step: above this multiple of the critical value (0: off) ...
+  double fast_confirm_time = 1.0;  ///< ... continuously for this long (s) raises before confirm_revolutions
   // Steep-surface gate: where k_M(lambda, pitch) changes by more than gate_max_sensitivity (relative) within
   // +/- gate_pitch_margin deg of a blade's (low-passed) measured pitch, neither the table (0.5 deg nodes) nor
   // the pitch measurement (0.2 deg noise) determines the load: the plant's Heier Cp is singular at -1 deg
   // (beta^3 + 1 = 0), where the thrust drops from ~0.5 to 0 within 0.3 deg. Every window that holds such a
   // sample is not tested (and not learned); an episode in progress is held, neither confirmed nor quiet.
-  double gate_pitch_margin = 0.25;    ///< deg (0: no gate)
-  double gate_max_sensitivity = 0.25; ///< (max - min) / max of k_M over pitch +/- margin
-  double gate_pitch_filter = 0.2;     ///< s, low-pass of the measured pitch for the gate (noise 0.2 deg)
+  double gate_pitch_margin = 0.25;     ///< deg (0: no gate)
+  double gate_max_sensitivity = 0.25;  ///< (max - min) / max of k_M over pitch +/- margin
+  double gate_pitch_filter = 0.2;      ///< s, low-pass of the measured pitch for the gate (noise 0.2 deg)
   // Inputs the load model relies on (rotor speed for lambda, each blade's pitch for k_M): while one is
   // suspect no window is tested or learned (the steep-surface gate's hold), and an episode in progress is
   // held.
@@ -66,20 +67,20 @@ struct MonitorConfig {
   double pitch_mismatch = 3.0;  ///< deg, |pitch_i - pitch_ref_i| (0.5 s low-pass) above which blade i's pitch
                                 ///< reading or its actuator is not what the model assumes (0: off; healthy
                                 ///< lag 1 deg at 10 deg/s)
-  double context_hold = 10.0;  ///< s held after another service raised or cleared a fault on an input the
-                               ///< model uses (a speed or pitch sensor, an actuator), or the arbiter
-                               ///< reconfigured the controller; held as long as such a fault stays raised
-  double isolation_ratio = 0.5;     ///< cross-blade channels: the other two blades must agree with each other,
-                                    ///< |x_o1 - x_o2| <= this * |x_b - mean(x_o)| (a single-sensor fault, 0..2)
-  double robust_clip = 3.0;         ///< healthy adaptation: a value's deviation is clipped at this many sd
-  double abrupt_ratio = 0.5;        ///< abrupt if two revolutions before detection |t| was below this share of
-                                    ///< the critical value (the residual stepped), else drift (it ramped)
-  int abrupt_lookback = 2;          ///< revolutions back for that comparison
-  EpisodeConfig episode;            ///< return_time, intermittent_window, clear_time (episode_classifier.hpp)
+  double context_hold = 10.0;   ///< s held after another service raised or cleared a fault on an input the
+                                ///< model uses (a speed or pitch sensor, an actuator), or the arbiter
+                                ///< reconfigured the controller; held as long as such a fault stays raised
+  double isolation_ratio = 0.5;  ///< cross-blade channels: the other two blades must agree with each other,
+                                 ///< |x_o1 - x_o2| <= this * |x_b - mean(x_o)| (a single-sensor fault, 0..2)
+  double robust_clip = 3.0;      ///< healthy adaptation: a value's deviation is clipped at this many sd
+  double abrupt_ratio = 0.5;     ///< abrupt if two revolutions before detection |t| was below this share of
+                                 ///< the critical value (the residual stepped), else drift (it ramped)
+  int abrupt_lookback = 2;       ///< revolutions back for that comparison
+  EpisodeConfig episode;         ///< return_time, intermittent_window, clear_time (episode_classifier.hpp)
   Witness witness = Witness::kConfirm;  ///< kConfirm: the LIDAR residual counts only if the cross-blade
                                         ///< amplitude residual agrees (sign and witness_significance)
-  double witness_significance = 1e-2;  ///< two-sided level of that agreement
-  bool mean_test = true;            ///< cross-blade mean-load test (the only one that sees an offset or drift)
+  double witness_significance = 1e-2;   ///< two-sided level of that agreement
+  bool mean_test = true;  ///< cross-blade mean-load test (the only one that sees an offset or drift)
   // Load-table adaptation in uniform wind (Stotsky 2014, last section).
   bool adapt = true;
   double uniform_shear = 0.04;      ///< |LIDAR shear exponent| below which the wind is uniform
@@ -88,8 +89,9 @@ struct MonitorConfig {
   double adapt_bound = 0.15;        ///< largest correction of the shipped table, +/- share
   double adapt_sigma_lambda = 0.5;  ///< tip-speed-ratio width of an update on the surface
   double adapt_sigma_pitch = 1.5;   ///< deg, pitch width of an update
-  double adapt_max_lambda_spread = 0.5;  ///< operating point must stay within this lambda range while averaging
-  double adapt_max_pitch_spread = 2.0;   ///< and within this pitch range (deg)
+  double adapt_max_lambda_spread =
+      0.5;  ///< operating point must stay within this lambda range while averaging
+  double adapt_max_pitch_spread = 2.0;  ///< and within this pitch range (deg)
 };
 
 /// Loads the `blade_load` keys (unknown keys and out-of-range values are ConfigErrors naming file and key).
@@ -107,17 +109,25 @@ struct BladeLoadOutput {
 };
 
 /// Residual channels per blade, each with its own healthy distribution.
-/// kModel: (A_model - A_sensor) / mean load (the paper's delta_A). kWitness: the same residual minus the other two
-/// blades' (a common LIDAR-model error cancels). kMean: the sensor/model mean-load ratio minus the other blades'
-/// (an offset or drift). kRawWitness, kRawMean: the sensors alone against each other, when the LIDAR is missing.
-enum Channel { kModelChannel = 0, kWitnessChannel, kMeanChannel, kRawWitnessChannel, kRawMeanChannel, kChannels };
+/// kModel: (A_model - A_sensor) / mean load (the paper's delta_A). kWitness: the same residual minus the
+/// other two blades' (a common LIDAR-model error cancels). kMean: the sensor/model mean-load ratio minus the
+/// other blades' (an offset or drift). kRawWitness, kRawMean: the sensors alone against each other, when the
+/// LIDAR is missing.
+enum Channel {
+  kModelChannel = 0,
+  kWitnessChannel,
+  kMeanChannel,
+  kRawWitnessChannel,
+  kRawMeanChannel,
+  kChannels
+};
 /// One value per blade and residual channel.
 using BladeChannels = std::array<std::array<double, kChannels>, 3>;
 const char* channel_name(int c);
 
 /// What a restart keeps: the learned table correction and the healthy statistics.
 struct MonitorState {
-  std::vector<double> table_factors;                     ///< LoadTable::factors()
+  std::vector<double> table_factors;  ///< LoadTable::factors()
   int n_lambda = 0, n_pitch = 0;
   std::array<std::array<HealthyStats, kChannels>, 3> healthy{};
 };
@@ -170,24 +180,25 @@ class BladeLoadMonitor {
 
  private:
   struct BladeState {
-    std::deque<std::array<double, kChannels>> history;   // per-revolution values
+    std::deque<std::array<double, kChannels>> history;    // per-revolution values
     std::deque<std::array<double, kChannels>> t_history;  // per-revolution outlier t
-    std::array<double, kChannels> run_start{};  // start of the channel's continuous same-sign exceedance (-1 none)
+    std::array<double, kChannels>
+        run_start{};  // start of the channel's continuous same-sign exceedance (-1 none)
     std::array<int, kChannels> run_sign{};
     std::array<double, kChannels> fast_start{};  // start of the run's stretch above fast_ratio (-1 none)
-    bool exceeding = false;     // any eligible channel above its threshold now
+    bool exceeding = false;                      // any eligible channel above its threshold now
     bool drift_firing = false;
     double drift_t = 0.0;
     int drift_channel = -1;
-    std::string raised;         // class raised, "" none (mirrors the classifier)
+    std::string raised;  // class raised, "" none (mirrors the classifier)
     EpisodeClassifier episode;
     double invalid_since = -1.0;
     bool invalid_raised = false;
   };
 
   void reset_windows();
-  void tick(double t, std::vector<FaultEvent>& events);       // estimate rate
-  void revolution(double t, std::vector<FaultEvent>& events); // once per revolution
+  void tick(double t, std::vector<FaultEvent>& events);        // estimate rate
+  void revolution(double t, std::vector<FaultEvent>& events);  // once per revolution
   void channel_values(BladeChannels& x) const;
   void blade_decision(int b, double t, bool active, bool confirmed, double stat, double crit, int channel,
                       double size, std::vector<FaultEvent>& events);
@@ -233,8 +244,8 @@ class BladeLoadMonitor {
   double rev_time_ = 0.0, last_rev_t_ = -1.0;
   // Adaptation accumulators.
   int adapt_n_ = 0;
-  double adapt_sensor_ = 0, adapt_model_ = 0, adapt_lmin_ = 0, adapt_lmax_ = 0, adapt_pmin_ = 0, adapt_pmax_ = 0,
-         adapt_lsum_ = 0, adapt_psum_ = 0;
+  double adapt_sensor_ = 0, adapt_model_ = 0, adapt_lmin_ = 0, adapt_lmax_ = 0, adapt_pmin_ = 0,
+         adapt_pmax_ = 0, adapt_lsum_ = 0, adapt_psum_ = 0;
   double shear_sum_ = 0.0, lambda_sum_ = 0.0, pitch_sum_ = 0.0;
   int op_n_ = 0;
   int adaptations_ = 0;

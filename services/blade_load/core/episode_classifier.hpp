@@ -1,4 +1,5 @@
-// Fault-episode state machine of one blade-moment sensor (Stotsky 2014 classes): raise, return, intermittent, clear.
+// Fault-episode state machine of one blade-moment sensor (Stotsky 2014 classes): raise, return, intermittent,
+// clear.
 #pragma once
 
 #include <string>
@@ -7,9 +8,10 @@
 namespace windfdi::blade_load {
 
 struct EpisodeConfig {
-  double return_time = 3.0;           ///< s without evidence: the episode is over (the sensor returned), > 0
-  double intermittent_window = 120.0; ///< s: a new confirmed episode within this after a return -> intermittent
-  double clear_time = 120.0;          ///< s after a return with no new episode: the fault clears (>= window)
+  double return_time = 3.0;  ///< s without evidence: the episode is over (the sensor returned), > 0
+  double intermittent_window =
+      120.0;                  ///< s: a new confirmed episode within this after a return -> intermittent
+  double clear_time = 120.0;  ///< s after a return with no new episode: the fault clears (>= window)
 };
 
 /// One reported change: `fault` raised (true) or cleared (false).
@@ -18,12 +20,13 @@ struct Transition {
   bool raised = false;
 };
 
-/// Hysteresis per blade. `active`: evidence now (any test above its threshold); `confirmed`: evidence that has
-/// persisted long enough to raise; `cls`: the class to raise when a new fault starts (sensor_abrupt / _drift).
+/// Hysteresis per blade. `active`: evidence now (any test above its threshold); `confirmed`: evidence that
+/// has persisted long enough to raise; `cls`: the class to raise when a new fault starts (sensor_abrupt /
+/// _drift).
 ///   healthy --confirmed--> raised(cls), episode on
 ///   episode on --quiet for return_time--> returned (at the start of the quiet spell)
-///   returned --confirmed within intermittent_window--> cleared(cls) + raised(sensor_intermittent), episode on
-///   returned --quiet for clear_time--> cleared
+///   returned --confirmed within intermittent_window--> cleared(cls) + raised(sensor_intermittent), episode
+///   on returned --quiet for clear_time--> cleared
 /// A class change is a clear of the old class and a raise of the new one: a FaultReport instance is
 /// (turbine, source, component), so its last state is always the current class. Once intermittent, further
 /// episodes produce no event (no storm); a flicker shorter than return_time never ends an episode, and one

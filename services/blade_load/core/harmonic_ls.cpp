@@ -274,7 +274,8 @@ const SolveInfo& HarmonicEstimator::solve() {
 
 double HarmonicEstimator::first_harmonic() const {
   // Eq 8.
-  if (c_.mode == RegressorMode::kAzimuth) return theta_(0) * std::cos(last_angle_) + theta_(1) * std::sin(last_angle_);
+  if (c_.mode == RegressorMode::kAzimuth)
+    return theta_(0) * std::cos(last_angle_) + theta_(1) * std::sin(last_angle_);
   return theta_(0) * std::cos(last_angle_);
 }
 

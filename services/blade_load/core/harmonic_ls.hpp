@@ -2,7 +2,6 @@
 #pragma once
 
 #include <Eigen/Dense>
-
 #include <cstdint>
 #include <vector>
 
@@ -10,7 +9,8 @@ namespace windfdi::blade_load {
 
 /// Regressor of eq 4. kPaper: cos(h w_k k), h = 1..d, at the discretised speed w_k (rad/sample) and step
 /// number k, phase assumed 0 (the paper's method, kept to reproduce it). kAzimuth (default): cosine AND
-/// sine of h times the blade's measured azimuth (docs/papers.md, Stotsky 2014: the phase is unknown in practice).
+/// sine of h times the blade's measured azimuth (docs/papers.md, Stotsky 2014: the phase is unknown in
+/// practice).
 enum class RegressorMode { kAzimuth, kPaper };
 
 constexpr int kMaxHarmonics = 8;
@@ -19,30 +19,30 @@ using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColM
 using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxParams, 1>;
 
 struct HarmonicConfig {
-  int harmonics = 4;                          ///< d, harmonics in the regressor (1..8)
+  int harmonics = 4;  ///< d, harmonics in the regressor (1..8)
   RegressorMode mode = RegressorMode::kAzimuth;
-  double revolutions = 1.0;                   ///< window length in revolutions (0.5..8); errata: one tracks best
-  int window_samples = 0;                     ///< > 0: a fixed window of N samples (checked to cover `revolutions`)
-  int capacity = 2600;                        ///< samples, longest window held (one revolution at 0.25 rad/s, 100 Hz)
-  double mean_time = 10.0;                    ///< s, low-pass time constant of the mean removal (0: none)
-  double dt = 0.01;                           ///< s, sample period
-  int reform_every = 2000;                    ///< samples between re-forming G and b from the buffer (rounding)
-  double min_rcond = 1e-3;                    ///< refuse an amplitude when the reciprocal condition is below this
+  double revolutions = 1.0;  ///< window length in revolutions (0.5..8); errata: one tracks best
+  int window_samples = 0;    ///< > 0: a fixed window of N samples (checked to cover `revolutions`)
+  int capacity = 2600;       ///< samples, longest window held (one revolution at 0.25 rad/s, 100 Hz)
+  double mean_time = 10.0;   ///< s, low-pass time constant of the mean removal (0: none)
+  double dt = 0.01;          ///< s, sample period
+  int reform_every = 2000;   ///< samples between re-forming G and b from the buffer (rounding)
+  double min_rcond = 1e-3;   ///< refuse an amplitude when the reciprocal condition is below this
 };
 
 /// How a solve went.
 enum class SolvePath { kNone, kSdd, kPartitioned };
 struct SolveInfo {
-  bool valid = false;          ///< an amplitude may be published
+  bool valid = false;  ///< an amplitude may be published
   SolvePath path = SolvePath::kNone;
-  const char* reason = "";     ///< why not valid ("window", "not positive definite", "ill-conditioned")
-  double rcond = 0.0;          ///< reciprocal condition (a Gershgorin lower bound on the SDD path)
-  int sweeps = 0;              ///< Gauss-Seidel sweeps on the SDD path
+  const char* reason = "";  ///< why not valid ("window", "not positive definite", "ill-conditioned")
+  double rcond = 0.0;       ///< reciprocal condition (a Gershgorin lower bound on the SDD path)
+  int sweeps = 0;           ///< Gauss-Seidel sweeps on the SDD path
 };
 
 /// The Appendix's partitioning G = [A B; B^T C] (A: the first half of the parameters).
 struct Partition {
-  Matrix A, B, C, S;       ///< S = C - B^T A^-1 B, the Schur complement
+  Matrix A, B, C, S;  ///< S = C - B^T A^-1 B, the Schur complement
   bool g_sdd = false, a_sdd = false, s_sdd = false;
   bool a_pd = false, s_pd = false;  ///< G is positive definite iff both (Horn & Johnson theorem 7.7.6)
 };

@@ -10,9 +10,15 @@
 
 namespace windfdi::blade_load {
 
-LoadTable::LoadTable(double lambda0, double lambda_step, int n_lambda, double pitch0, double pitch_step, int n_pitch,
-                     std::vector<double> k)
-    : l0_(lambda0), dl_(lambda_step), p0_(pitch0), dp_(pitch_step), nl_(n_lambda), np_(n_pitch), k_(std::move(k)),
+LoadTable::LoadTable(double lambda0, double lambda_step, int n_lambda, double pitch0, double pitch_step,
+                     int n_pitch, std::vector<double> k)
+    : l0_(lambda0),
+      dl_(lambda_step),
+      p0_(pitch0),
+      dp_(pitch_step),
+      nl_(n_lambda),
+      np_(n_pitch),
+      k_(std::move(k)),
       f_(k_.size(), 1.0) {}
 
 namespace {
@@ -30,7 +36,8 @@ std::vector<double> split_numbers(const std::string& line, const std::string& fi
       if (!std::isfinite(v)) throw std::invalid_argument("");
       out.push_back(v);
     } catch (const std::exception&) {
-      throw ConfigError(file, lineno, "column " + std::to_string(col), "'" + field + "' is not a finite number");
+      throw ConfigError(file, lineno, "column " + std::to_string(col),
+                        "'" + field + "' is not a finite number");
     }
   }
   return out;
@@ -48,15 +55,17 @@ LoadTable LoadTable::load_csv(const std::string& path) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty() || line[0] == '#') continue;
     if (pitch.empty()) {
-      if (line.rfind("lambda", 0) != 0) throw ConfigError(path, lineno, "", "expected the header 'lambda\\pitch_deg,...'");
+      if (line.rfind("lambda", 0) != 0)
+        throw ConfigError(path, lineno, "", "expected the header 'lambda\\pitch_deg,...'");
       pitch = split_numbers(line, path, lineno, 1);
       if (pitch.size() < 2) throw ConfigError(path, lineno, "", "need at least two pitch values");
       continue;
     }
     const auto row = split_numbers(line, path, lineno, 0);
     if (row.size() != pitch.size() + 1)
-      throw ConfigError(path, lineno, "", "expected " + std::to_string(pitch.size() + 1) + " fields, got " +
-                                              std::to_string(row.size()));
+      throw ConfigError(
+          path, lineno, "",
+          "expected " + std::to_string(pitch.size() + 1) + " fields, got " + std::to_string(row.size()));
     lambda.push_back(row[0]);
     k.insert(k.end(), row.begin() + 1, row.end());
   }
@@ -70,8 +79,8 @@ LoadTable LoadTable::load_csv(const std::string& path) {
     return step;
   };
   const double dl = regular(lambda, "lambda"), dp = regular(pitch, "pitch");
-  return LoadTable(lambda[0], dl, static_cast<int>(lambda.size()), pitch[0], dp, static_cast<int>(pitch.size()),
-                   std::move(k));
+  return LoadTable(lambda[0], dl, static_cast<int>(lambda.size()), pitch[0], dp,
+                   static_cast<int>(pitch.size()), std::move(k));
 }
 
 void LoadTable::save_csv(const std::string& path, const std::string& comment) const {
@@ -86,7 +95,8 @@ void LoadTable::save_csv(const std::string& path, const std::string& comment) co
   out << "\n";
   for (int i = 0; i < nl_; ++i) {
     out << l0_ + i * dl_;
-    for (int j = 0; j < np_; ++j) out << "," << k_[static_cast<std::size_t>(i * np_ + j)] * f_[static_cast<std::size_t>(i * np_ + j)];
+    for (int j = 0; j < np_; ++j)
+      out << "," << k_[static_cast<std::size_t>(i * np_ + j)] * f_[static_cast<std::size_t>(i * np_ + j)];
     out << "\n";
   }
 }
@@ -97,7 +107,8 @@ double LoadTable::bilinear(const std::vector<double>& v, double lambda, double p
   const int i = std::min(static_cast<int>(x), nl_ - 2), j = std::min(static_cast<int>(y), np_ - 2);
   const double fx = x - i, fy = y - j;
   auto at = [&](int a, int b) { return v[static_cast<std::size_t>(a * np_ + b)]; };
-  return (1 - fx) * ((1 - fy) * at(i, j) + fy * at(i, j + 1)) + fx * ((1 - fy) * at(i + 1, j) + fy * at(i + 1, j + 1));
+  return (1 - fx) * ((1 - fy) * at(i, j) + fy * at(i, j + 1)) +
+         fx * ((1 - fy) * at(i + 1, j) + fy * at(i + 1, j + 1));
 }
 
 double LoadTable::k(double lambda, double pitch_deg) const {
@@ -110,7 +121,8 @@ double LoadTable::k(double lambda, double pitch_deg) const {
     const auto n = static_cast<std::size_t>(a * np_ + b);
     return k_[n] * f_[n];
   };
-  return (1 - fx) * ((1 - fy) * at(i, j) + fy * at(i, j + 1)) + fx * ((1 - fy) * at(i + 1, j) + fy * at(i + 1, j + 1));
+  return (1 - fx) * ((1 - fy) * at(i, j) + fy * at(i, j + 1)) +
+         fx * ((1 - fy) * at(i + 1, j) + fy * at(i + 1, j + 1));
 }
 
 double LoadTable::factor(double lambda, double pitch_deg) const { return bilinear(f_, lambda, pitch_deg); }

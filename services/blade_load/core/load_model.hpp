@@ -1,5 +1,6 @@
-// The LIDAR-driven blade load model of Stotsky 2014 (eq 1, eq 9): look-up table k_M(lambda, beta), expected blade
-// winds from two delayed LIDAR speeds (frozen turbulence), and the table's bounded adaptation in uniform wind.
+// The LIDAR-driven blade load model of Stotsky 2014 (eq 1, eq 9): look-up table k_M(lambda, beta), expected
+// blade winds from two delayed LIDAR speeds (frozen turbulence), and the table's bounded adaptation in
+// uniform wind.
 #pragma once
 
 #include <array>
@@ -17,8 +18,8 @@ class LoadTable {
   LoadTable(double lambda0, double lambda_step, int n_lambda, double pitch0, double pitch_step, int n_pitch,
             std::vector<double> k);
 
-  /// Reads the shipped CSV: '#' comment lines, a header `lambda\pitch_deg,<pitch values...>`, then one row per
-  /// tip-speed ratio: lambda, k_M at each pitch (N m per (m/s)^2). A malformed file is a ConfigError.
+  /// Reads the shipped CSV: '#' comment lines, a header `lambda\pitch_deg,<pitch values...>`, then one row
+  /// per tip-speed ratio: lambda, k_M at each pitch (N m per (m/s)^2). A malformed file is a ConfigError.
   static LoadTable load_csv(const std::string& path);
   void save_csv(const std::string& path, const std::string& comment) const;
 
@@ -52,9 +53,10 @@ struct LoadModelConfig {
   double lidar_half_span = 0.5;   ///< beams at H +/- this * R (Figure 1: half the blade length)
   double tower_shadow = 0.1;      ///< relative wind deficit in front of the tower (azimuth pi); 0: none
   double shadow_width = 0.25;     ///< rad, Gaussian half-width of the shadow in azimuth
-  double advection_time = 600.0;  ///< s, low-pass of the LIDAR hub speed: the mean flow carrying the turbulence
-  double max_lidar_age = 1.0;     ///< s a delayed LIDAR value may be older than wanted
-  double max_delay = 60.0;        ///< s, longest D / V kept (LIDAR history)
+  double advection_time =
+      600.0;                   ///< s, low-pass of the LIDAR hub speed: the mean flow carrying the turbulence
+  double max_lidar_age = 1.0;  ///< s a delayed LIDAR value may be older than wanted
+  double max_delay = 60.0;     ///< s, longest D / V kept (LIDAR history)
 };
 
 /// Expected moments of the three blades now from the LIDAR speeds measured D / V ago.

@@ -67,7 +67,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   MonitorConfig c;
   HarmonicConfig& h = c.harmonic;
   h.mode = y.get_choice("regressor", "azimuth", {"azimuth", "paper"}) == "paper" ? RegressorMode::kPaper
-                                                                                : RegressorMode::kAzimuth;
+                                                                                 : RegressorMode::kAzimuth;
   h.harmonics = static_cast<int>(y.get_number("harmonics", h.harmonics, 1, kMaxHarmonics));
   h.revolutions = y.get_number("revolutions", h.revolutions, 0.5, 8.0);
   h.window_samples = static_cast<int>(y.get_number("window_samples", 0, 0, 20000));
@@ -77,7 +77,8 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   h.dt = 1.0 / y.get_number("sample_rate", 100.0, 1.0, 10000.0);
   c.min_rotor_speed = y.get_number("min_rotor_speed", c.min_rotor_speed, 0.05, 5.0);
   // The window holds `revolutions` at the slowest monitored speed.
-  h.capacity = std::max(h.window_samples, static_cast<int>(2.0 * M_PI * h.revolutions / (c.min_rotor_speed * h.dt)) + 2);
+  h.capacity = std::max(h.window_samples,
+                        static_cast<int>(2.0 * M_PI * h.revolutions / (c.min_rotor_speed * h.dt)) + 2);
   LoadModelConfig& m = c.model;
   m.hub_height = turbine.hub_height;
   m.rotor_radius = turbine.rotor_radius;
@@ -94,7 +95,8 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   c.drift_significance = y.get_number("drift_significance", c.drift_significance, 1e-12, 0.1);
   c.drift_window = static_cast<int>(y.get_number("drift_window", c.drift_window, 2, 1000));
   c.learn_time = y.get_number("learn_time", c.learn_time, 10.0, 1e6);
-  c.min_learn_revolutions = static_cast<int>(y.get_number("min_learn_revolutions", c.min_learn_revolutions, 5, 1e6));
+  c.min_learn_revolutions =
+      static_cast<int>(y.get_number("min_learn_revolutions", c.min_learn_revolutions, 5, 1e6));
   c.healthy_adapt_time = y.get_number("healthy_adapt_time", c.healthy_adapt_time, 0.0, 1e8);
   c.confirm_time = y.get_number("confirm_time", c.confirm_time, 0.1, 600.0);
   c.confirm_revolutions = y.get_number("confirm_revolutions", c.confirm_revolutions, 0.0, 20.0);
@@ -119,7 +121,8 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   e.intermittent_window = y.get_number("intermittent_window", e.intermittent_window, 1.0, 86400.0);
   // A fault must not clear before a recurrence could still make it intermittent.
   e.clear_time = y.get_number("clear_time", e.clear_time, e.intermittent_window, 86400.0);
-  c.witness = y.get_choice("witness", "confirm", {"confirm", "off"}) == "off" ? Witness::kOff : Witness::kConfirm;
+  c.witness =
+      y.get_choice("witness", "confirm", {"confirm", "off"}) == "off" ? Witness::kOff : Witness::kConfirm;
   c.witness_significance = y.get_number("witness_significance", c.witness_significance, 1e-12, 0.5);
   c.mean_test = y.get<bool>("mean_test", c.mean_test);
   c.adapt = y.get<bool>("adapt", c.adapt);
@@ -171,7 +174,8 @@ void save_state(const MonitorState& s, const std::string& path) {
     o.flush();
     if (!o) throw ConfigError(tmp, 0, "", "write failed");
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw ConfigError(path, 0, "", "cannot rename the state file into place");
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw ConfigError(path, 0, "", "cannot rename the state file into place");
 }
 
 bool load_state(const std::string& path, MonitorState& s) {

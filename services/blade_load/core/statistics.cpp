@@ -1,4 +1,5 @@
-// Student-t distribution and healthy statistics for the blade-load tests (Stotsky 2014, outlier and drift t-tests).
+// Student-t distribution and healthy statistics for the blade-load tests (Stotsky 2014, outlier and drift
+// t-tests).
 #include "statistics.hpp"
 
 #include <algorithm>
@@ -39,7 +40,8 @@ double beta_cf(double a, double b, double x) {
 double incomplete_beta(double a, double b, double x) {
   if (x <= 0.0) return 0.0;
   if (x >= 1.0) return 1.0;
-  const double lbt = std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log1p(-x);
+  const double lbt =
+      std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log1p(-x);
   if (x < (a + 1.0) / (a + b + 2.0)) return std::exp(lbt) * beta_cf(a, b, x) / a;
   return 1.0 - std::exp(lbt) * beta_cf(b, a, 1.0 - x) / b;
 }

@@ -1,5 +1,5 @@
-// Student-t quantiles and the healthy distribution of a monitored residual (Stotsky 2014, "Monitoring ... outlier
-// detection"): the point t-test for outliers and the moving-window mean test for drift.
+// Student-t quantiles and the healthy distribution of a monitored residual (Stotsky 2014, "Monitoring ...
+// outlier detection"): the point t-test for outliers and the moving-window mean test for drift.
 #pragma once
 
 #include <deque>
@@ -15,10 +15,10 @@ double student_t_critical(double alpha, double nu);
 /// The healthy distribution of one residual, learned from one value per revolution (non-overlapping windows),
 /// with its lag-1 autocorrelation so the drift test uses an effective sample size.
 struct HealthyStats {
-  int n = 0;            ///< values learned
+  int n = 0;  ///< values learned
   double mean = 0.0;
   double var = 0.0;
-  double rho = 0.0;     ///< lag-1 autocorrelation of the per-revolution values, clipped to [0, 0.95]
+  double rho = 0.0;  ///< lag-1 autocorrelation of the per-revolution values, clipped to [0, 0.95]
   bool learned = false;
 
   double sd() const;
@@ -32,7 +32,8 @@ struct HealthyStats {
   double drift_sd(int m) const;  ///< sd sqrt(1/n_eff(m) + 1/n_eff(n))
 };
 
-/// Learns HealthyStats from a series, then freezes (or adapts slowly, only when the caller says it is healthy).
+/// Learns HealthyStats from a series, then freezes (or adapts slowly, only when the caller says it is
+/// healthy).
 class HealthyLearner {
  public:
   void add(double x) { values_.push_back(x); }

@@ -9,7 +9,9 @@
 
 namespace windfdi::farm {
 
-void FarmState::on_fault(const FaultEvent& e) { turbines_[e.turbine_id].faults[e.component + "/" + e.fault] = e; }
+void FarmState::on_fault(const FaultEvent& e) {
+  turbines_[e.turbine_id].faults[e.component + "/" + e.fault] = e;
+}
 
 void FarmState::on_config(const ConfigRecord& c) {
   auto& t = turbines_[c.turbine_id];
@@ -20,7 +22,8 @@ void FarmState::on_config(const ConfigRecord& c) {
   t.arbiter_id = c.arbiter_id;
 }
 
-void FarmState::on_service(const std::string& turbine_id, const std::string& service, const std::string& state) {
+void FarmState::on_service(const std::string& turbine_id, const std::string& service,
+                           const std::string& state) {
   if (turbine_id == "*") {
     for (auto& [id, t] : turbines_) t.services[service] = state;
     return;
@@ -66,8 +69,10 @@ std::string FarmState::render() const {
     int ok = 0;
     std::string others;
     for (const auto& [name, state] : t.services) {
-      if (state == "ok") ++ok;
-      else others += " " + name + ":" + state;
+      if (state == "ok")
+        ++ok;
+      else
+        others += " " + name + ":" + state;
     }
     const std::string services = std::to_string(ok) + " ok" + others;
     const auto faults = active_faults(id);

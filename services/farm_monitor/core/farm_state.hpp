@@ -13,8 +13,8 @@ namespace windfdi::farm {
 struct TurbineView {
   std::string mode = "-", ipc_source = "-", ice_mode = "-", arbiter_id;
   uint64_t revision = 0;
-  std::map<std::string, FaultEvent> faults;      ///< key component/fault: the latest report, raised or not
-  std::map<std::string, std::string> services;   ///< service -> "ok", "lost", "degraded", ...
+  std::map<std::string, FaultEvent> faults;     ///< key component/fault: the latest report, raised or not
+  std::map<std::string, std::string> services;  ///< service -> "ok", "lost", "degraded", ...
 };
 
 class FarmState {

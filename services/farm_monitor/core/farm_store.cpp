@@ -81,7 +81,8 @@ CREATE INDEX IF NOT EXISTS fault_events_turbine ON fault_events (turbine_id, rec
 
 // The fault columns every fault query selects, in this order, starting at `first`.
 constexpr const char* kFaultColumns =
-    "t, turbine_id, source, component, fault, state, severity, t_detected, statistic, threshold, size, detail";
+    "t, turbine_id, source, component, fault, state, severity, t_detected, statistic, threshold, size, "
+    "detail";
 
 FaultEvent read_fault(const Statement& s, int first) {
   FaultEvent e;
@@ -131,9 +132,10 @@ void FarmStore::exec(const char* sql) {
 }
 
 bool FarmStore::add_fault(const FaultEvent& e, double received_at) {
-  Statement s(db_,
-              "INSERT OR IGNORE INTO fault_events (received_at, t, turbine_id, source, component, fault, state, "
-              "severity, t_detected, statistic, threshold, size, detail) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?)");
+  Statement s(
+      db_,
+      "INSERT OR IGNORE INTO fault_events (received_at, t, turbine_id, source, component, fault, state, "
+      "severity, t_detected, statistic, threshold, size, detail) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?)");
   s.bind(1, received_at).bind(2, e.t).bind(3, e.turbine_id).bind(4, e.source).bind(5, e.component);
   s.bind(6, e.fault).bind(7, std::string(e.raised ? "raised" : "cleared")).bind(8, e.severity);
   s.bind(9, e.t_detected).bind(10, e.statistic).bind(11, e.threshold).bind(12, e.size).bind(13, e.detail);
@@ -153,7 +155,8 @@ bool FarmStore::add_config(const ConfigRecord& c) {
 }
 
 bool FarmStore::add_health(const HealthRecord& h) {
-  Statement s(db_, "INSERT INTO health_events (received_at, turbine_id, service, event, detail) VALUES (?,?,?,?,?)");
+  Statement s(
+      db_, "INSERT INTO health_events (received_at, turbine_id, service, event, detail) VALUES (?,?,?,?,?)");
   s.bind(1, h.received_at).bind(2, h.turbine_id).bind(3, h.service).bind(4, h.event).bind(5, h.detail);
   if (s.step() != SQLITE_DONE) throw std::runtime_error(std::string("sqlite insert: ") + sqlite3_errmsg(db_));
   return true;
@@ -163,9 +166,10 @@ std::vector<HistoryRow> FarmStore::history(const std::string& turbine, double si
   std::vector<HistoryRow> rows;
   const bool all = turbine.empty();
   {
-    Statement s(db_, (std::string("SELECT received_at, ") + kFaultColumns +
-                      " FROM fault_events WHERE received_at >= ? AND (? OR turbine_id = ?) ORDER BY received_at, id")
-                         .c_str());
+    Statement s(
+        db_, (std::string("SELECT received_at, ") + kFaultColumns +
+              " FROM fault_events WHERE received_at >= ? AND (? OR turbine_id = ?) ORDER BY received_at, id")
+                 .c_str());
     s.bind(1, since).bind(2, static_cast<int64_t>(all)).bind(3, turbine);
     while (s.step() == SQLITE_ROW) {
       const FaultEvent e = read_fault(s, 1);
@@ -173,9 +177,10 @@ std::vector<HistoryRow> FarmStore::history(const std::string& turbine, double si
     }
   }
   {
-    Statement s(db_,
-                "SELECT received_at, t, turbine_id, arbiter_id, revision, mode, ipc_source, ice_mode, reasons FROM "
-                "configurations WHERE received_at >= ? AND (? OR turbine_id = ?) ORDER BY received_at, id");
+    Statement s(
+        db_,
+        "SELECT received_at, t, turbine_id, arbiter_id, revision, mode, ipc_source, ice_mode, reasons FROM "
+        "configurations WHERE received_at >= ? AND (? OR turbine_id = ?) ORDER BY received_at, id");
     s.bind(1, since).bind(2, static_cast<int64_t>(all)).bind(3, turbine);
     while (s.step() == SQLITE_ROW)
       rows.push_back({s.real(0), "config", s.text(2),
@@ -189,13 +194,16 @@ std::vector<HistoryRow> FarmStore::history(const std::string& turbine, double si
                                      {"reasons", nlohmann::json::parse(s.text(8))}}});
   }
   {
-    Statement s(db_,
-                "SELECT received_at, turbine_id, service, event, detail FROM health_events WHERE received_at >= ? "
-                "AND (? OR turbine_id = ?) ORDER BY received_at, id");
+    Statement s(
+        db_,
+        "SELECT received_at, turbine_id, service, event, detail FROM health_events WHERE received_at >= ? "
+        "AND (? OR turbine_id = ?) ORDER BY received_at, id");
     s.bind(1, since).bind(2, static_cast<int64_t>(all)).bind(3, turbine);
     while (s.step() == SQLITE_ROW)
       rows.push_back({s.real(0), "health", s.text(1),
-                      nlohmann::json{{"turbine_id", s.text(1)}, {"service", s.text(2)}, {"event", s.text(3)},
+                      nlohmann::json{{"turbine_id", s.text(1)},
+                                     {"service", s.text(2)},
+                                     {"event", s.text(3)},
                                      {"detail", s.text(4)}}});
   }
   std::stable_sort(rows.begin(), rows.end(),
@@ -205,11 +213,12 @@ std::vector<HistoryRow> FarmStore::history(const std::string& turbine, double si
 
 std::vector<FaultEvent> FarmStore::latest_faults() const {
   std::vector<FaultEvent> out;
-  Statement s(db_, (std::string("SELECT ") + kFaultColumns +
-                    " FROM fault_events f WHERE id = (SELECT MAX(id) FROM fault_events g WHERE g.turbine_id = "
-                    "f.turbine_id AND g.source = f.source AND g.component = f.component AND g.fault = f.fault) "
-                    "ORDER BY turbine_id, component")
-                       .c_str());
+  Statement s(db_,
+              (std::string("SELECT ") + kFaultColumns +
+               " FROM fault_events f WHERE id = (SELECT MAX(id) FROM fault_events g WHERE g.turbine_id = "
+               "f.turbine_id AND g.source = f.source AND g.component = f.component AND g.fault = f.fault) "
+               "ORDER BY turbine_id, component")
+                  .c_str());
   while (s.step() == SQLITE_ROW) out.push_back(read_fault(s, 0));
   return out;
 }

@@ -36,9 +36,12 @@ std::vector<InjectedFault> injected_of(const std::vector<ReportRow>& rows) {
 }  // namespace
 
 std::pair<std::string, std::string> expected_detection(const std::string& target, const std::string& type) {
-  auto ends = [&](const char* p) { return target.rfind(p, 0) == 0 ? target.substr(std::string(p).size()) : ""; };
+  auto ends = [&](const char* p) {
+    return target.rfind(p, 0) == 0 ? target.substr(std::string(p).size()) : "";
+  };
   if (type == "invalid") {
-    if (!ends("blade_moment_").empty()) return {"blade_moment_sensor_" + ends("blade_moment_"), "sensor_invalid"};
+    if (!ends("blade_moment_").empty())
+      return {"blade_moment_sensor_" + ends("blade_moment_"), "sensor_invalid"};
     if (target == "lidar" || target.rfind("lidar_v_", 0) == 0) return {"lidar", "sensor_invalid"};
   }
   if (!ends("blade_moment_").empty()) {
@@ -49,7 +52,8 @@ std::pair<std::string, std::string> expected_detection(const std::string& target
   }
   if (target == "rotor_speed") return {"rotor_speed_sensor", "sensor_bias"};
   if (target == "generator_speed") return {"generator_speed_sensor", "sensor_bias"};
-  if (!ends("pitch_").empty() && target.rfind("pitch_actuator_", 0) != 0) return {"pitch_sensor_" + ends("pitch_"), "sensor_bias"};
+  if (!ends("pitch_").empty() && target.rfind("pitch_actuator_", 0) != 0)
+    return {"pitch_sensor_" + ends("pitch_"), "sensor_bias"};
   if (target.rfind("pitch_actuator_", 0) == 0) return {target, type};
   if (target == "rotor") return {"rotor", type};
   return {"", ""};  // converter, drive train, anemometer, ...: no windfdi service covers them yet
@@ -77,7 +81,8 @@ std::vector<InjectedFault> read_injected(const std::string& file) {
   return out;
 }
 
-std::vector<ReportRow> match(const std::vector<InjectedFault>& injected, const std::vector<HistoryRow>& history) {
+std::vector<ReportRow> match(const std::vector<InjectedFault>& injected,
+                             const std::vector<HistoryRow>& history) {
   std::vector<ReportRow> rows;
   for (const auto& inj : injected) {
     ReportRow r;
@@ -105,8 +110,8 @@ std::vector<ReportRow> match(const std::vector<InjectedFault>& injected, const s
       for (const auto& h : history)
         if (h.kind == "config" && h.turbine_id == inj.turbine && h.received_at >= received) {
           const auto& d = h.data;
-          r.reaction = "mode " + d["mode"].get<std::string>() + ", ipc " + d["ipc_source"].get<std::string>() +
-                       ", ice " + d["ice_mode"].get<std::string>();
+          r.reaction = "mode " + d["mode"].get<std::string>() + ", ipc " +
+                       d["ipc_source"].get<std::string>() + ", ice " + d["ice_mode"].get<std::string>();
           break;
         }
     rows.push_back(r);
@@ -233,7 +238,8 @@ std::string render_report(const std::vector<ReportRow>& rows, const std::vector<
       delay = d;
       found += r.detected_fault == i.fault;
       for (const auto& c : r.reclassified) det += " > " + c;
-      found_later += r.detected_fault != i.fault && !r.reclassified.empty() && r.reclassified.back() == i.fault;
+      found_later +=
+          r.detected_fault != i.fault && !r.reclassified.empty() && r.reclassified.back() == i.fault;
     } else if (!i.component.empty()) {
       det = "MISSED";
     }

@@ -26,9 +26,10 @@ struct ReportRow {
   InjectedFault injected;
   bool detected = false;
   std::string detected_fault;  ///< the class reported on the component first after the start
-  std::vector<std::string> reclassified;  ///< classes raised on it later, in order (a service changing its mind)
-  double delay = 0.0;          ///< s of measurement time from the start to t_detected
-  std::string reaction;        ///< the arbiter's first configuration change after detection
+  std::vector<std::string>
+      reclassified;      ///< classes raised on it later, in order (a service changing its mind)
+  double delay = 0.0;    ///< s of measurement time from the start to t_detected
+  std::string reaction;  ///< the arbiter's first configuration change after detection
   bool detected_while_active =
       false;  ///< the first detection came before the fault ended (the benchmark's test)
 };
@@ -53,7 +54,8 @@ std::pair<std::string, std::string> expected_detection(const std::string& target
 /// Reads the faults of a plant scenario (only what the report needs).
 std::vector<InjectedFault> read_injected(const std::string& scenario_file);
 /// Matches each injected fault with the first raised report on its component at or after its start.
-std::vector<ReportRow> match(const std::vector<InjectedFault>& injected, const std::vector<HistoryRow>& history);
+std::vector<ReportRow> match(const std::vector<InjectedFault>& injected,
+                             const std::vector<HistoryRow>& history);
 /// Raised reports outside every injected fault's window, each isolated against the turbine's other reports.
 std::vector<ExtraReport> extra_reports(const std::vector<InjectedFault>& injected,
                                        const std::vector<HistoryRow>& history);

@@ -183,13 +183,14 @@ double median(std::vector<double> v) {
 void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   out_.t = t;
   out_.excited = estimator_.excited();
-  // A step in the aerodynamics restarted the regression; the median keeps the estimates from before it (clearing
-  // it gave a false alarm at 20 m/s, where the balance steps several times an hour, for 40 s less delay).
+  // A step in the aerodynamics restarted the regression; the median keeps the estimates from before it
+  // (clearing it gave a false alarm at 20 m/s, where the balance steps several times an hour, for 40 s less
+  // delay).
   const bool cp_step = estimator_.power_changes() > power_changes_seen_;
   power_changes_seen_ = estimator_.power_changes();
   // After the regression restarted (a stop, a suspect speed, lost samples), its first window is young: its
-  // estimates stay out of the median until a whole window of fresh data is in. The median of the estimates from
-  // before is judged as before (a sample gap near the end of an accretion once hid it for good).
+  // estimates stay out of the median until a whole window of fresh data is in. The median of the estimates
+  // from before is judged as before (a sample gap near the end of an accretion once hid it for good).
   const bool young = t - resumed_at_ < cfg_.estimator.window;
   fresh_ = !young && estimator_.excited() && estimator_.inertia() > 0.0 && !estimator_.power_unsettled();
   if (fresh_) {
@@ -203,7 +204,8 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   }
   out_.inertia_clean = j0_;
   const bool learning = cfg_.learn_time > 0.0 && learning_.size() < cfg_.learn_time;
-  out_.ice_mass = (out_.inertia > 0.0 && !learning) ? std::max(0.0, (out_.inertia - j0_) * mass_per_inertia_) : 0.0;
+  out_.ice_mass =
+      (out_.inertia > 0.0 && !learning) ? std::max(0.0, (out_.inertia - j0_) * mass_per_inertia_) : 0.0;
   due_ = true;
   // Judge ice only with a calibrated power model (the clean rotor's Cp overstates an iced rotor's power), and
   // only once the window and the median hold no estimate from before the calibration.
@@ -215,18 +217,21 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   // Shedding: the fast estimate falls shed_fraction of J0 below the slow one (which still remembers the
   // minute before), with ice there to shed.
   // Only a live fast estimate counts: a held one (calm, a stopped turbine) says nothing about now.
-  // While the aerodynamics may be changing, its estimates are held out (and the drop judged on the last ones).
+  // While the aerodynamics may be changing, its estimates are held out (and the drop judged on the last
+  // ones).
   if (!fast_.excited() || fast_.inertia() <= 0.0) {
     fast_recent_.clear();
   } else if (!fast_.power_unsettled()) {
     fast_recent_.push_back(fast_.inertia());
     while (fast_recent_.size() > static_cast<std::size_t>(cfg_.shed_median)) fast_recent_.pop_front();
   }
-  const double fast = fast_recent_.empty() ? 0.0 : median(std::vector<double>(fast_recent_.begin(), fast_recent_.end()));
+  const double fast =
+      fast_recent_.empty() ? 0.0 : median(std::vector<double>(fast_recent_.begin(), fast_recent_.end()));
   const double drop = out_.inertia - fast;
   // Only ice that was reported can fall off: without it a drop is estimation noise.
   const bool iced = out_.ice_mass >= cfg_.shed_min_ice && raised_level_ > 0;
-  // After a shedding the slow estimate needs a window and a median to come down: until then its lag is no drop.
+  // After a shedding the slow estimate needs a window and a median to come down: until then its lag is no
+  // drop.
   const bool settled = shed_last_ < 0.0 || t - shed_last_ >= cfg_.estimator.window + cfg_.median_estimates;
   const bool dropping = fast > 0.0 && drop >= cfg_.shed_fraction * j0_ && iced && settled;
   if (!dropping) shed_since_ = -1.0;
@@ -246,7 +251,8 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
       e.threshold = cfg_.shed_power_step;
       e.size = cfg_.ice_cp_loss > 0.0 ? 1000.0 * e.statistic / cfg_.ice_cp_loss : 0.0;
       std::snprintf(detail, sizeof detail,
-                    "power coefficient recovered %.1f %% within a minute with %.0f kg of ice reported: about %.0f kg shed",
+                    "power coefficient recovered %.1f %% within a minute with %.0f kg of ice reported: about "
+                    "%.0f kg shed",
                     100.0 * e.statistic, out_.ice_mass, e.size);
     } else {
       e.statistic = drop / j0_;
@@ -281,7 +287,8 @@ void IceDetector::level_events(double t, std::vector<FaultEvent>& events) {
     e.threshold = thresholds[std::max(lvl, 1) - 1];
     e.size = m;
     e.detail = "inertia " + std::to_string(static_cast<int>(out_.inertia)) + " kg m^2 vs clean " +
-               std::to_string(static_cast<int>(j0_)) + ": about " + std::to_string(static_cast<int>(m)) + " kg of ice";
+               std::to_string(static_cast<int>(j0_)) + ": about " + std::to_string(static_cast<int>(m)) +
+               " kg of ice";
     events.push_back(e);
   };
   // Raise (or raise further) once the mass has stayed above the raised level for confirm_time. The stop level

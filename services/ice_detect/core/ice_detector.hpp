@@ -16,32 +16,35 @@ namespace windfdi::ice_detect {
 
 struct DetectorConfig {
   EstimatorConfig estimator;
-  double wind_window = 0.5;         ///< s, centred average of the anemometer before the power model (0: none)
-  double clean_inertia = 0.0;       ///< kg m^2 generator side, J0; 0: the turbine's lumped inertia
-  double learn_time = 0.0;          ///< s; > 0: learn J0 as the median estimate over this time instead
-  double median_estimates = 61;     ///< 1 Hz estimates in the running median that is reported
-  double ice_radius = 40.0;         ///< m, radius of gyration of the ice (m r^2 of rotor inertia)
-  double gear_ratio = 95.0;         ///< N, to refer the rotor inertia to the generator side
-  double warning_mass = 1700.0;     ///< kg of ice for an ice_accretion warning (5 % of J0 is about 1830 kg)
-  double fault_mass = 2500.0;       ///< kg for severity fault
-  double critical_mass = 4500.0;    ///< kg for severity critical (the arbiter stops the turbine)
-  double critical_margin = 0.2;     ///< the stop level needs an estimate this share above critical_mass: the
-                                 ///< estimate's error (1-4 % of inertia, 370-1460 kg) must not stop a rotor
-                                 ///< carrying less than critical_mass
+  double wind_window = 0.5;       ///< s, centred average of the anemometer before the power model (0: none)
+  double clean_inertia = 0.0;     ///< kg m^2 generator side, J0; 0: the turbine's lumped inertia
+  double learn_time = 0.0;        ///< s; > 0: learn J0 as the median estimate over this time instead
+  double median_estimates = 61;   ///< 1 Hz estimates in the running median that is reported
+  double ice_radius = 40.0;       ///< m, radius of gyration of the ice (m r^2 of rotor inertia)
+  double gear_ratio = 95.0;       ///< N, to refer the rotor inertia to the generator side
+  double warning_mass = 1700.0;   ///< kg of ice for an ice_accretion warning (5 % of J0 is about 1830 kg)
+  double fault_mass = 2500.0;     ///< kg for severity fault
+  double critical_mass = 4500.0;  ///< kg for severity critical (the arbiter stops the turbine)
+  double critical_margin = 0.2;   ///< the stop level needs an estimate this share above critical_mass: the
+                                  ///< estimate's error (1-4 % of inertia, 370-1460 kg) must not stop a rotor
+                                  ///< carrying less than critical_mass
   double critical_confirm_time = 60.0;  ///< s of fresh (excited) estimates above it before critical is raised
-  double confirm_time = 10.0;       ///< s a level must hold before it is raised
-  double clear_time = 30.0;         ///< s below the clear level before a raised level clears
-  double clear_ratio = 0.7;         ///< a level clears below this share of its threshold (hysteresis)
-  double shed_power_step = 0.01;    ///< rise of the power model's calibration in one step that is shedding (0: off)
-  double ice_cp_loss = 0.02;        ///< share of Cp an iced rotor loses per tonne (sizes a shedding from its Cp)
-  double shed_window = 45.0;        ///< s, window of the fast estimator that watches for shedding
-  double shed_reinit = 10.0;        ///< s between its initialisation events
-  double shed_min_excitation = 0.5; ///< rad/s, excitation the fast estimator needs (its estimates are noisier)
-  double shed_median = 15;          ///< 1 Hz fast estimates in its running median
-  double shed_confirm = 45.0;       ///< s the drop must hold
-  double shed_fraction = 0.05;      ///< drop of the fast estimate below the slow one, share of J0, for ice_shedding
-  double shed_min_ice = 500.0;      ///< kg of ice that must be estimated, with ice_accretion raised, to shed
-  double shed_hold = 60.0;          ///< s an ice_shedding report stays raised
+  double confirm_time = 10.0;           ///< s a level must hold before it is raised
+  double clear_time = 30.0;             ///< s below the clear level before a raised level clears
+  double clear_ratio = 0.7;             ///< a level clears below this share of its threshold (hysteresis)
+  double shed_power_step =
+      0.01;                   ///< rise of the power model's calibration in one step that is shedding (0: off)
+  double ice_cp_loss = 0.02;  ///< share of Cp an iced rotor loses per tonne (sizes a shedding from its Cp)
+  double shed_window = 45.0;  ///< s, window of the fast estimator that watches for shedding
+  double shed_reinit = 10.0;  ///< s between its initialisation events
+  double shed_min_excitation =
+      0.5;                     ///< rad/s, excitation the fast estimator needs (its estimates are noisier)
+  double shed_median = 15;     ///< 1 Hz fast estimates in its running median
+  double shed_confirm = 45.0;  ///< s the drop must hold
+  double shed_fraction =
+      0.05;  ///< drop of the fast estimate below the slow one, share of J0, for ice_shedding
+  double shed_min_ice = 500.0;  ///< kg of ice that must be estimated, with ice_accretion raised, to shed
+  double shed_hold = 60.0;      ///< s an ice_shedding report stays raised
   double min_generator_speed = 30.0;  ///< rad/s below which the estimator is not fed (standstill)
   double min_gen_torque = 3000.0;     ///< N m; below it the turbine is not producing (stopping): not fed
   double max_pitch = 30.0;            ///< deg; above it (feathering) the power model is not trusted: not fed
@@ -86,7 +89,7 @@ class IceDetector {
   void level_events(double t, std::vector<FaultEvent>& events);
 
   DetectorConfig cfg_;
-  double mass_per_inertia_;  // kg of ice per kg m^2 of generator-side inertia
+  double mass_per_inertia_;     // kg of ice per kg m^2 of generator-side inertia
   InertiaEstimator estimator_;  // the reported inertia (long window)
   InertiaEstimator fast_;       // short window: sees a shedding step within a minute
   std::deque<double> fast_recent_;
@@ -95,7 +98,7 @@ class IceDetector {
   double next_second_ = -1.0;
   bool due_ = false;
   InertiaOutput out_;
-  std::deque<double> recent_;    // last raw estimates (1 Hz, excited only)
+  std::deque<double> recent_;  // last raw estimates (1 Hz, excited only)
   std::vector<double> learning_;
   double j0_;
   // Accretion: the raised severity level (0 none, 1 warning, 2 fault, 3 critical) and its timers.

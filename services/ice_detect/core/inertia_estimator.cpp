@@ -8,8 +8,10 @@ namespace windfdi::ice_detect {
 
 InertiaEstimator::InertiaEstimator(const EstimatorConfig& c)
     : cfg_(c),
-      window_samples_(std::max<std::size_t>(2, static_cast<std::size_t>(std::lround(c.window / c.sample_time)))),
-      reinit_samples_(std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(c.reinit_period / c.sample_time)))),
+      window_samples_(
+          std::max<std::size_t>(2, static_cast<std::size_t>(std::lround(c.window / c.sample_time)))),
+      reinit_samples_(
+          std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(c.reinit_period / c.sample_time)))),
       alpha_(1.0 - std::exp(-c.sample_time / std::max(c.filter_time, 1e-9))),
       ring_psi_x_(window_samples_),
       ring_psi_g_(window_samples_),
@@ -51,7 +53,8 @@ double InertiaEstimator::energy_balance_scale(std::size_t newest, std::size_t se
 }
 
 void InertiaEstimator::calibrate() {
-  const std::size_t step_seconds = std::min(seconds_.size(), static_cast<std::size_t>(cfg_.power_step_window));
+  const std::size_t step_seconds =
+      std::min(seconds_.size(), static_cast<std::size_t>(cfg_.power_step_window));
   since_power_change_ = std::min(since_power_change_ + 1, seconds_.size());
   const std::size_t span = std::min(seconds_filled_, since_power_change_);
   if (!calibrated_ && seconds_filled_ < seconds_.size()) return;
@@ -125,10 +128,10 @@ void InertiaEstimator::update(double omega, double power, double gen_torque) {
     return;
   }
   // J d omega / dt = s P/omega - g, eq 2. The generator-side torques g are divided by the drive-train
-  // efficiency so that J is the lumped (J_r + N^2 J_g) / N^2 of the errata (with eta on the generator side the
-  // one-mass inertia would be J_g + eta J_r / N^2, 2.7 % low); s is the power model's calibration.
-  // The same first-order filter on every signal keeps J d(omega_f)/dt = s x_f - g_f exact while it removes
-  // the drive train's torsional mode and the sensor noise the one-mass model cannot explain.
+  // efficiency so that J is the lumped (J_r + N^2 J_g) / N^2 of the errata (with eta on the generator side
+  // the one-mass inertia would be J_g + eta J_r / N^2, 2.7 % low); s is the power model's calibration. The
+  // same first-order filter on every signal keeps J d(omega_f)/dt = s x_f - g_f exact while it removes the
+  // drive train's torsional mode and the sensor noise the one-mass model cannot explain.
   prev_omega_f_ = omega_f_;
   prev_x_f_ = x_f_;
   prev_g_f_ = g_f_;
@@ -152,8 +155,8 @@ void InertiaEstimator::update(double omega, double power, double gen_torque) {
   }
   if (since_init_ >= reinit_samples_) initialise();
   // Eq 3 with eq 4, the aerodynamic and the generator side accumulated apart (psi = s psi_x - psi_g), so that
-  // the whole window is judged with one calibration s, whenever it changes: a calibration that moved during the
-  // window (ice changes Cp) would otherwise bias J by several times its own change.
+  // the whole window is judged with one calibration s, whenever it changes: a calibration that moved during
+  // the window (ice changes Cp) would otherwise bias J by several times its own change.
   psi_x_ += prev_x_f_ * cfg_.sample_time;
   psi_g_ += prev_g_f_ * cfg_.sample_time;
   ++since_init_;

@@ -9,20 +9,21 @@
 namespace windfdi::ice_detect {
 
 struct EstimatorConfig {
-  double sample_time = 0.01;        ///< s, Delta t of eq 3
-  double window = 120.0;            ///< s, w of eq 7 (measured best on the plant with a noisy anemometer)
-  double reinit_period = 15.0;      ///< s between initialisation events (eq 4)
-  double filter_time = 0.5;         ///< s, low-pass applied alike to speed and torque balance (drive-train mode)
+  double sample_time = 0.01;    ///< s, Delta t of eq 3
+  double window = 120.0;        ///< s, w of eq 7 (measured best on the plant with a noisy anemometer)
+  double reinit_period = 15.0;  ///< s between initialisation events (eq 4)
+  double filter_time = 0.5;     ///< s, low-pass applied alike to speed and torque balance (drive-train mode)
   double min_excitation = 2.0;  ///< rad/s, RMS of psi * theta over the window needed to estimate (0.5 let TI
                                 ///< 0.06 windows read +9-15 % inertia)
-  double power_gain = 0.97;         ///< eta: the generator-side torques are divided by it (drive-train efficiency)
-  double power_window = 300.0;      ///< s of energy balance that calibrates the power model (0: no calibration)
+  double power_gain = 0.97;  ///< eta: the generator-side torques are divided by it (drive-train efficiency)
+  double power_window = 300.0;  ///< s of energy balance that calibrates the power model (0: no calibration)
   double power_step_window = 60.0;  ///< s of the recent energy balance watched for a step in the aerodynamics
-  double power_step = 0.01;         ///< relative step of that balance from the calibration that restarts both (0: off)
-  double power_step_sigmas = 5.0;   ///< ... and at least this many times its RMS wandering
+  double power_step =
+      0.01;  ///< relative step of that balance from the calibration that restarts both (0: off)
+  double power_step_sigmas = 5.0;     ///< ... and at least this many times its RMS wandering
   double power_wander_time = 1800.0;  ///< s, time constant of that RMS
-  double friction = 45.6;           ///< b (N m s/rad): generator-side friction (Witczak et al. Table I B_g)
-  double nominal_inertia = 6484.0;  ///< kg m^2 generator side: prior for the excitation measure
+  double friction = 45.6;             ///< b (N m s/rad): generator-side friction (Witczak et al. Table I B_g)
+  double nominal_inertia = 6484.0;    ///< kg m^2 generator side: prior for the excitation measure
 };
 
 /// Windowed least squares for theta = 1/J on the accumulated regressor psi (eqs 4-7). Per sample: generator
@@ -38,7 +39,9 @@ class InertiaEstimator {
   /// Forgets the regressor history (a sequence gap, a restart).
   void reset();
 
-  double inertia() const { return theta_ > 0.0 ? 1.0 / theta_ : 0.0; }  ///< kg m^2, 0 before the first estimate
+  double inertia() const {
+    return theta_ > 0.0 ? 1.0 / theta_ : 0.0;
+  }  ///< kg m^2, 0 before the first estimate
   bool excited() const { return excited_; }
   double excitation() const { return excitation_; }  ///< rad/s RMS of psi * theta_nominal over the window
   uint64_t estimates() const { return estimates_; }
@@ -48,8 +51,8 @@ class InertiaEstimator {
   bool calibrated() const { return seconds_.empty() || calibrated_; }
   /// Steps in the aerodynamics seen so far (each restarted the calibration and the regression).
   uint64_t power_changes() const { return power_changes_; }
-  /// The last step's relative change of the calibration (> 0: more power than before, e.g. ice shed): as first
-  /// seen, then, a step window later, as measured on the new aerodynamics alone.
+  /// The last step's relative change of the calibration (> 0: more power than before, e.g. ice shed): as
+  /// first seen, then, a step window later, as measured on the new aerodynamics alone.
   double last_power_step() const { return last_power_step_; }
   /// True when the last step left a calibration that had held three step windows (not the recovery from a
   /// transient dip).
@@ -63,7 +66,7 @@ class InertiaEstimator {
 
   EstimatorConfig cfg_;
   std::size_t window_samples_, reinit_samples_;
-  double alpha_;            // low-pass coefficient
+  double alpha_;  // low-pass coefficient
   bool started_ = false;
   double omega_f_ = 0.0, x_f_ = 0.0, g_f_ = 0.0, prev_omega_f_ = 0.0, prev_x_f_ = 0.0, prev_g_f_ = 0.0;
   double omega0_ = 0.0, psi_x_ = 0.0, psi_g_ = 0.0;

@@ -176,9 +176,10 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<PitchEvent>& events) 
   }
   if (cls_.ambiguous) {
     // Two paths explain the point: one signature lies on the other's path (Table 1: pump wear sits at alpha
-    // 0.50 of hydraulic leakage, docs/papers.md, Wu & Li), so the dynamics cannot tell them apart. What can: how the
-    // blade got there. Reaching the shorter path's signature abruptly from healthy is that fault; drifting
-    // along the shared path is the longer path's fault developing. Both hypotheses stay in the report.
+    // 0.50 of hydraulic leakage, docs/papers.md, Wu & Li), so the dynamics cannot tell them apart. What can:
+    // how the blade got there. Reaching the shorter path's signature abruptly from healthy is that fault;
+    // drifting along the shared path is the longer path's fault developing. Both hypotheses stay in the
+    // report.
     auto reach = [&](const std::string& name) {
       for (std::size_t k = 1; k < sig.size(); ++k)
         if (sig[k].name == name)
@@ -221,7 +222,9 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<PitchEvent>& events) 
   }
   // Only a leak can stop the turbine: "critical" needs it well past the point it shares with pump wear.
   const bool leak_beyond_doubt = cls == "hydraulic_leakage" && cls_.alpha >= cfg_->critical_alpha;
-  const std::string severity = leak_beyond_doubt ? "critical" : cls_.alpha >= cfg_->fault_alpha ? "fault" : "warning";
+  const std::string severity = leak_beyond_doubt                 ? "critical"
+                               : cls_.alpha >= cfg_->fault_alpha ? "fault"
+                                                                 : "warning";
   auto rank = [](const std::string& sev) { return sev == "critical" ? 3 : sev == "fault" ? 2 : 1; };
   if (cls != "none" && pending_ >= cfg_->confirm_time) {
     if (raised_ != cls) {

@@ -27,14 +27,15 @@ struct PitchDiagConfig {
   double alpha_clear = 0.15;     ///< alpha below which a raised fault counts as gone (< alpha_detect)
   double fault_alpha = 0.6;      ///< alpha from which the severity is "fault" (below: "warning")
   double critical_alpha = 0.85;  ///< a hydraulic leakage this far along its path is "critical" (the arbiter's
-                                 ///< stop): past the pump-wear point (leak alpha 0.5), where the two cannot be
-                                 ///< told apart, with a margin (a real leak converges to 1)
+                                 ///< stop): past the pump-wear point (leak alpha 0.5), where the two cannot
+                                 ///< be told apart, with a margin (a real leak converges to 1)
   double abrupt_time = 10.0;     ///< s of excited data; the pump-wear point reached this fast from healthy:
                                  ///< pump_wear, slower (a gradual drift along the shared path):
                                  ///< hydraulic_leakage. Held (unexcited) time does not count
   double shared_alpha = 0.8;     ///< alpha on the shorter (pump-wear) path that counts as reaching its point
-  double short_max_alpha = 1.15; ///< alpha on the shorter path beyond which a point not yet raised as that fault
-                                 ///< is the longer path's, however fast it got there (past its own signature)
+  double short_max_alpha =
+      1.15;  ///< alpha on the shorter path beyond which a point not yet raised as that fault
+             ///< is the longer path's, however fast it got there (past its own signature)
   double max_tracking_error = 5.0;  ///< deg; |reference - pitch| above it means the actuator is at its rate
                                     ///< limit (a safe stop's jump to feather): the linear model does not hold
                                     ///< and nothing is identified. Healthy lag 1 deg at 10 deg/s; 0 disables
@@ -48,8 +49,8 @@ struct PitchDiagConfig {
   double hold_settle = 10.0;  ///< s after a hold ends before a class counts again (5 bank memories)
   double stuck_time = 0.2;    ///< s of an exactly repeated pitch measurement that is a stuck sensor: the
                               ///< blade is held (a stuck sensor is not a slow actuator). 0 disables
-  double pitch_min = -5.0;          ///< deg; pitch or reference below it is rejected
-  double pitch_max = 95.0;          ///< deg; above it is rejected
+  double pitch_min = -5.0;    ///< deg; pitch or reference below it is rejected
+  double pitch_max = 95.0;    ///< deg; above it is rejected
 };
 
 /// Loads the pitch_diag keys of `section` (unknown keys and out-of-range values are ConfigErrors).

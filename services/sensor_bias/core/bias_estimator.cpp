@@ -1,4 +1,5 @@
-// One turbine's speed and pitch sensor-bias estimation and detection (Witczak et al.): drive-train and pitch observers.
+// One turbine's speed and pitch sensor-bias estimation and detection (Witczak et al.): drive-train and pitch
+// observers.
 #include "bias_estimator.hpp"
 
 #include <algorithm>
@@ -9,8 +10,8 @@
 namespace windfdi::sensor_bias {
 
 const std::array<const char*, kChannels>& channel_components() {
-  static const std::array<const char*, kChannels> c = {"rotor_speed_sensor", "generator_speed_sensor", "pitch_sensor_1",
-                                                       "pitch_sensor_2", "pitch_sensor_3"};
+  static const std::array<const char*, kChannels> c = {"rotor_speed_sensor", "generator_speed_sensor",
+                                                       "pitch_sensor_1", "pitch_sensor_2", "pitch_sensor_3"};
   return c;
 }
 
@@ -42,7 +43,8 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
                         "pitch_min",
                         "pitch_max"});
   BiasConfig c;
-  c.mode = s.get_choice("mode", "observer", {"observer", "paper"}) == "paper" ? Mode::kPaper : Mode::kObserver;
+  c.mode =
+      s.get_choice("mode", "observer", {"observer", "paper"}) == "paper" ? Mode::kPaper : Mode::kObserver;
   auto path = [&](const char* key, const std::string& fallback) {
     return s.get_path(key, (std::filesystem::path(default_gain_dir) / fallback).string());
   };
@@ -55,7 +57,8 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   }
   c.threshold[0] = s.get_number("threshold_rotor_speed", c.threshold[0], 1e-6, 5.0);
   c.threshold[1] = s.get_number("threshold_generator_speed", c.threshold[1], 1e-4, 400.0);
-  c.threshold[2] = c.threshold[3] = c.threshold[4] = s.get_number("threshold_pitch", c.threshold[2], 1e-4, 90.0);
+  c.threshold[2] = c.threshold[3] = c.threshold[4] =
+      s.get_number("threshold_pitch", c.threshold[2], 1e-4, 90.0);
   c.raise_time = s.get_number("raise_time", c.raise_time, 0.0, 3600.0);
   c.clear_ratio = s.get_number("clear_ratio", c.clear_ratio, 0.0, 1.0);
   c.clear_time = s.get_number("clear_time", c.clear_time, 0.0, 3600.0);
@@ -81,10 +84,11 @@ namespace {
 template <class Obs>
 void load_into(Obs& o, const GainFile& g, const char* what) {
   if (g.A.rows() != o.A.rows() || g.B.cols() != o.B.cols() || g.C.rows() != o.C.rows())
-    throw ConfigError(g.file, 0, "A", std::string(what) + ": expected " + std::to_string(o.A.rows()) + " states, " +
-                                           std::to_string(o.B.cols()) + " inputs, " + std::to_string(o.C.rows()) +
-                                           " outputs; the gain file has " + std::to_string(g.A.rows()) + ", " +
-                                           std::to_string(g.B.cols()) + ", " + std::to_string(g.C.rows()));
+    throw ConfigError(g.file, 0, "A",
+                      std::string(what) + ": expected " + std::to_string(o.A.rows()) + " states, " +
+                          std::to_string(o.B.cols()) + " inputs, " + std::to_string(o.C.rows()) +
+                          " outputs; the gain file has " + std::to_string(g.A.rows()) + ", " +
+                          std::to_string(g.B.cols()) + ", " + std::to_string(g.C.rows()));
   o.A = g.A;
   o.B = g.B;
   o.C = g.C;
@@ -100,8 +104,9 @@ BiasEstimator::BiasEstimator(const BiasConfig& config, const GainFile& dt, const
     : cfg_(config), turbine_(turbine), aero_(turbine), aero_damping_(dt.aero_damping) {
   const bool paper = cfg_.mode == Mode::kPaper;
   if ((dt.structure == "paper") != paper || (pitch.structure == "paper") != paper)
-    throw ConfigError(paper ? dt.file : pitch.file, 0, "structure",
-                      std::string("mode ") + (paper ? "paper" : "observer") + " needs gain files of that structure");
+    throw ConfigError(
+        paper ? dt.file : pitch.file, 0, "structure",
+        std::string("mode ") + (paper ? "paper" : "observer") + " needs gain files of that structure");
   if (paper) {
     load_into(dt_paper_, dt, "drive train (paper mode)");
     for (auto& p : pitch_paper_) load_into(p, pitch, "pitch (paper mode)");
@@ -109,8 +114,8 @@ BiasEstimator::BiasEstimator(const BiasConfig& config, const GainFile& dt, const
     load_observer(dt_obs_, dt, 5, "drive train (observer mode)");
     for (auto& p : pitch_obs_) load_observer(p, pitch, 3, "pitch (observer mode)");
   }
-  // The converter is first order: over a sample of T the mean torque moves (tau/T)(1 - exp(-T/tau)) of the way
-  // from the measured torque to its reference.
+  // The converter is first order: over a sample of T the mean torque moves (tau/T)(1 - exp(-T/tau)) of the
+  // way from the measured torque to its reference.
   const double T = dt.sample_time, tau = turbine.converter_time_constant;
   dt_ = T;
   pitch_offset_forget_ = std::exp(-T / cfg_.pitch_offset_time);
@@ -129,15 +134,17 @@ BiasEstimator::BiasEstimator(const BiasConfig& config, const GainFile& dt, const
 double BiasEstimator::aero_torque(const FrameSample& s) const {
   if (std::isfinite(s.aero_torque)) return s.aero_torque;
   if (!in(s.wind_hub, 0.0, cfg_.wind_max)) return kNaN;
-  // The model on measured wind and the bias-free rotor speed and pitch (a biased sensor must not bias the input).
+  // The model on measured wind and the bias-free rotor speed and pitch (a biased sensor must not bias the
+  // input).
   const double omega = cfg_.mode == Mode::kPaper ? dt_paper_.state()(0) : dt_obs_.state()(0);
   const double w = std::clamp(omega, 0.05, cfg_.rotor_speed_max);
-  // One evaluation at the rotor-average pitch (the plant averages three blade evaluations; the IPC's 1P offsets
-  // cancel in the mean pitch and their second-order effect is far below the measured-wind error).
+  // One evaluation at the rotor-average pitch (the plant averages three blade evaluations; the IPC's 1P
+  // offsets cancel in the mean pitch and their second-order effect is far below the measured-wind error).
   double beta = 0.0;
   for (int i = 0; i < kBlades; ++i) {
     const std::size_t c = static_cast<std::size_t>(2 + i);
-    const double b = pitch_init_[static_cast<std::size_t>(i)] ? out_.corrected[c] : s.pitch[static_cast<std::size_t>(i)];
+    const double b =
+        pitch_init_[static_cast<std::size_t>(i)] ? out_.corrected[c] : s.pitch[static_cast<std::size_t>(i)];
     if (!std::isfinite(b)) return kNaN;
     beta += b / kBlades;
   }
@@ -193,7 +200,8 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
         o.state()(0) = y - held(0);
         ++tracking_holds_;
       }
-      // The actuator is rate limited: so is its model's prediction (a saturated reference step is not a bias).
+      // The actuator is rate limited: so is its model's prediction (a saturated reference step is not a
+      // bias).
       o.state()(1) = std::clamp(o.state()(1), -turbine_.pitch_rate_limit, turbine_.pitch_rate_limit);
       out_.bias[c] = o.state()(2);
     }
@@ -202,16 +210,19 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
   }
 
   // Drive train: state [omega_r, omega_g, theta, b_r, b_g], inputs [T_aero, T_g].
-  const bool speeds_ok = in(s.rotor_speed, 0.0, cfg_.rotor_speed_max) && in(s.generator_speed, 0.0, cfg_.generator_speed_max) &&
-                         in(s.gen_torque, -cfg_.torque_max, cfg_.torque_max) &&
-                         (s.valid_mask & kValidRotorSpeed) && (s.valid_mask & kValidGeneratorSpeed) && (s.valid_mask & kValidGenTorque);
+  const bool speeds_ok =
+      in(s.rotor_speed, 0.0, cfg_.rotor_speed_max) && in(s.generator_speed, 0.0, cfg_.generator_speed_max) &&
+      in(s.gen_torque, -cfg_.torque_max, cfg_.torque_max) && (s.valid_mask & kValidRotorSpeed) &&
+      (s.valid_mask & kValidGeneratorSpeed) && (s.valid_mask & kValidGenTorque);
   double ta = kNaN;
   if (speeds_ok) {
     if (!dt_init_) {
       // Start at the measured speeds and the torsion that carries the measured generator torque.
-      const double theta = turbine_.gear_ratio * (s.gen_torque + turbine_.generator_friction * s.generator_speed) /
+      const double theta = turbine_.gear_ratio *
+                           (s.gen_torque + turbine_.generator_friction * s.generator_speed) /
                            (turbine_.drive_train_efficiency * turbine_.drive_train_stiffness);
-      if (paper) dt_paper_.reset(Eigen::Vector3d(s.rotor_speed, s.generator_speed, theta));
+      if (paper)
+        dt_paper_.reset(Eigen::Vector3d(s.rotor_speed, s.generator_speed, theta));
       else
         dt_obs_.reset(
             (Eigen::Matrix<double, 7, 1>() << s.rotor_speed, s.generator_speed, theta, 0.0, 0.0, 0.0, 0.0)
@@ -223,8 +234,9 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
     const double tg = std::isfinite(s.gen_torque_ref) && std::fabs(s.gen_torque_ref) <= cfg_.torque_max
                           ? s.gen_torque + torque_avg_ * (s.gen_torque_ref - s.gen_torque)
                           : s.gen_torque;
-    // The design's A holds -k_a omega_r (linearised aerodynamic damping); the input adds it back, so the model
-    // integrates the full nonlinear T_aero(omega_r) while the gain was designed for the damped error dynamics.
+    // The design's A holds -k_a omega_r (linearised aerodynamic damping); the input adds it back, so the
+    // model integrates the full nonlinear T_aero(omega_r) while the gain was designed for the damped error
+    // dynamics.
     const double omega_hat = paper ? dt_paper_.state()(0) : dt_obs_.state()(0);
     const Eigen::Vector2d y(s.rotor_speed, s.generator_speed), u(ta + aero_damping_ * omega_hat, tg);
     out_.witness_speed = kNaN;
@@ -313,14 +325,15 @@ void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
     const double thr = cfg_.threshold[k];
     double stat = std::fabs(filtered_[k]);
     if (c < 2 && cfg_.mode == Mode::kObserver) {
-      // Which speed sensor: its own estimate (placed by the power witness) must be confirmed by the differential
-      // the two speed sensors see without any model, with the sign a bias on that sensor gives it (rotor: +b_r,
-      // generator: -b_g / N). A common-mode offset (power or torque channel wrong, or both sensors alike) has no
-      // differential and flags neither sensor.
-      // Statistic: min(|b|, d_along / confirm), so it reaches the threshold only when both do their share.
+      // Which speed sensor: its own estimate (placed by the power witness) must be confirmed by the
+      // differential the two speed sensors see without any model, with the sign a bias on that sensor gives
+      // it (rotor: +b_r, generator: -b_g / N). A common-mode offset (power or torque channel wrong, or both
+      // sensors alike) has no differential and flags neither sensor. Statistic: min(|b|, d_along / confirm),
+      // so it reaches the threshold only when both do their share.
       const double d = c == 0 ? filtered_diff_ : -filtered_diff_ * turbine_.gear_ratio;
       const double along = filtered_[k] >= 0.0 ? d : -d;
-      if (cfg_.differential_confirm > 0.0) stat = std::min(stat, std::max(0.0, along) / cfg_.differential_confirm);
+      if (cfg_.differential_confirm > 0.0)
+        stat = std::min(stat, std::max(0.0, along) / cfg_.differential_confirm);
     } else if (c >= 2 && cfg_.mode == Mode::kObserver && cfg_.pitch_offset_confirm > 0.0) {
       // Which fault of the blade: its static offset (lag removed) must carry the bias (same sign), as min()
       // above.
@@ -341,8 +354,9 @@ void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
       e.threshold = thr;
       e.size = filtered_[k];
       char d[200];
-      std::snprintf(d, sizeof d, "%s bias %+.4g %s (threshold %.4g, %s mode)", raised ? "estimated" : "cleared: estimated",
-                    filtered_[k], kUnit[c], thr, cfg_.mode == Mode::kPaper ? "paper" : "observer");
+      std::snprintf(d, sizeof d, "%s bias %+.4g %s (threshold %.4g, %s mode)",
+                    raised ? "estimated" : "cleared: estimated", filtered_[k], kUnit[c], thr,
+                    cfg_.mode == Mode::kPaper ? "paper" : "observer");
       e.detail = d;
       events.push_back(e);
     };

@@ -1,4 +1,5 @@
-// One turbine's speed and pitch sensor-bias estimation and detection (Witczak et al.): drive-train and pitch observers.
+// One turbine's speed and pitch sensor-bias estimation and detection (Witczak et al.): drive-train and pitch
+// observers.
 #pragma once
 
 #include <array>
@@ -22,20 +23,24 @@ constexpr int kChannels = 5;
 const std::array<const char*, kChannels>& channel_components();  ///< canonical component names
 
 struct BiasConfig {
-  Mode mode = Mode::kObserver;  ///< observer (default, uses the measurements) or paper (eqs 5 + 8)
+  Mode mode = Mode::kObserver;        ///< observer (default, uses the measurements) or paper (eqs 5 + 8)
   std::string drive_train_gain_file;  ///< gain file of windfdi-qb-design (observer: 5 states; paper: 3)
   std::string pitch_gain_file;        ///< (observer: 3 states; paper: 2)
-  std::array<double, kChannels> threshold{0.017, 1.62, 0.5};  ///< |bias| to flag: rad/s, rad/s, deg (pitch: all 3)
-  double raise_time = 1.0;     ///< s the filtered |bias| must stay above its threshold before sensor_bias is raised
-  double clear_ratio = 0.5;    ///< clears below this share of the threshold (hysteresis), 0..1
-  double clear_time = 5.0;     ///< s below the clear level before it clears
-  double filter_time = 0.3;    ///< s, first-order low-pass on the bias estimate before the threshold test
-  double settle_time = 20.0;   ///< s after the first (or after a gap) sample before anything is raised
-  /// Observer mode: the generator-speed witness P / (eta_g T_g) is used only while the measured torque is above
-  /// this (its noise grows as 1 / T_g).
-  double witness_torque_min = 3000.0;  ///< N m; below it (not producing: a stop, idling) the speed biases are held
+  std::array<double, kChannels> threshold{0.017, 1.62,
+                                          0.5};  ///< |bias| to flag: rad/s, rad/s, deg (pitch: all 3)
+  double raise_time =
+      1.0;  ///< s the filtered |bias| must stay above its threshold before sensor_bias is raised
+  double clear_ratio = 0.5;   ///< clears below this share of the threshold (hysteresis), 0..1
+  double clear_time = 5.0;    ///< s below the clear level before it clears
+  double filter_time = 0.3;   ///< s, first-order low-pass on the bias estimate before the threshold test
+  double settle_time = 20.0;  ///< s after the first (or after a gap) sample before anything is raised
+  /// Observer mode: the generator-speed witness P / (eta_g T_g) is used only while the measured torque is
+  /// above this (its noise grows as 1 / T_g).
+  double witness_torque_min =
+      3000.0;  ///< N m; below it (not producing: a stop, idling) the speed biases are held
   /// Observer mode: while |pitch reference - pitch| exceeds this (deg) the actuator runs at its rate limit (a
-  /// safe stop's jump to feather), where the linear actuator model does not hold: the pitch bias is held. 0: off.
+  /// safe stop's jump to feather), where the linear actuator model does not hold: the pitch bias is held. 0:
+  /// off.
   double max_tracking_error = 5.0;
   /// s of a pitch reading repeated to the last bit: a stuck sensor (a healthy one carries noise). Its
   /// tracking error is the fault itself, so the rate-limit hold above does not apply to it. 0: off.
@@ -49,11 +54,11 @@ struct BiasConfig {
   /// healthy, 0.5 s leaking) is taken by the rate term, and an actuator fault keeps static gain 1 (Wu & Li
   /// Table 1 changes omega_n and zeta only), while a sensor bias, gain or stuck reading shifts b. 0: off.
   double pitch_offset_confirm = 0.6;
-  double pitch_offset_time = 3.0;      ///< s, forgetting time constant of that fit
-  double rotor_speed_max = 5.0;        ///< rad/s; larger or negative: rejected
-  double generator_speed_max = 400.0;  ///< rad/s
-  double torque_max = 1e6;             ///< N m, |generator torque| and |aerodynamic torque|
-  double wind_max = 60.0;              ///< m/s
+  double pitch_offset_time = 3.0;              ///< s, forgetting time constant of that fit
+  double rotor_speed_max = 5.0;                ///< rad/s; larger or negative: rejected
+  double generator_speed_max = 400.0;          ///< rad/s
+  double torque_max = 1e6;                     ///< N m, |generator torque| and |aerodynamic torque|
+  double wind_max = 60.0;                      ///< m/s
   double pitch_min = -10.0, pitch_max = 95.0;  ///< deg, measured pitch and pitch reference
 };
 
@@ -89,8 +94,8 @@ struct BiasOutput {
   double t = 0.0;
   std::array<double, kChannels> bias{};       ///< rad/s, rad/s, deg x 3
   std::array<double, kChannels> corrected{};  ///< measured minus bias
-  double bound_ratio = 0.0;  ///< largest |bias| / the design's bias-error bound
-  double aero_torque = 0.0;  ///< N m, the input used (model or recording)
+  double bound_ratio = 0.0;                   ///< largest |bias| / the design's bias-error bound
+  double aero_torque = 0.0;                   ///< N m, the input used (model or recording)
   std::array<double, 3> drive_train_state{};  ///< omega_r, omega_g, theta estimates
   double differential = 0.0;    ///< rad/s (rotor side): b_r - b_g / N, the speed sensors' own disagreement
   double witness_speed = kNaN;  ///< rad/s: P / (eta_g T_g) this sample, NaN when not usable
@@ -99,11 +104,12 @@ struct BiasOutput {
 /// One turbine: samples in, bias estimates, corrected measurements and sensor_bias events out.
 class BiasEstimator {
  public:
-  BiasEstimator(const BiasConfig& config, const GainFile& drive_train, const GainFile& pitch, const TurbineParams& turbine);
+  BiasEstimator(const BiasConfig& config, const GainFile& drive_train, const GainFile& pitch,
+                const TurbineParams& turbine);
 
-  /// Feeds one sample. Returns false when a subsystem's inputs were rejected (NaN, out of range, marked invalid):
-  /// counted and not fed. `aero_torque`: N m from the recording or NaN (then the model on measured wind and the
-  /// bias-corrected rotor speed and pitch). `gap`: samples lost before this one.
+  /// Feeds one sample. Returns false when a subsystem's inputs were rejected (NaN, out of range, marked
+  /// invalid): counted and not fed. `aero_torque`: N m from the recording or NaN (then the model on measured
+  /// wind and the bias-corrected rotor speed and pitch). `gap`: samples lost before this one.
   bool update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events);
   const BiasOutput& output() const { return out_; }
   bool has_output() const { return has_output_; }

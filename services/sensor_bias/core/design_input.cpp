@@ -32,11 +32,12 @@ void model_from_turbine(const YamlSection& m, DesignInput& in) {
     drive_train_continuous(p, in.aero_damping, Ac, Bc, Cc);
     in.states = {"omega_r", "omega_g", "theta_delta"};
   } else {
-    pitch_continuous(m.get_number("omega_n", p.pitch_omega_n, 0.1, 100.0), m.get_number("zeta", p.pitch_zeta, 0.01, 5.0),
-                     Ac, Bc, Cc);
+    pitch_continuous(m.get_number("omega_n", p.pitch_omega_n, 0.1, 100.0),
+                     m.get_number("zeta", p.pitch_zeta, 0.01, 5.0), Ac, Bc, Cc);
     in.states = {"beta", "beta_dot"};
   }
-  DiscreteModel d = disc == "zoh" ? discretise_zoh(Ac, Bc, Cc, in.sample_time) : discretise_euler(Ac, Bc, Cc, in.sample_time);
+  DiscreteModel d = disc == "zoh" ? discretise_zoh(Ac, Bc, Cc, in.sample_time)
+                                  : discretise_euler(Ac, Bc, Cc, in.sample_time);
   const Eigen::Index n = d.A.rows(), r = d.B.cols(), mb_out = d.C.rows();  // mb_out: the biased sensors
   const bool augment = m.get<bool>("augment_biases", false);
   // bias_model: random_walk (b+ = b + w) or integrated_random_walk (a rate state r per bias: b+ = b + T r +
@@ -55,7 +56,8 @@ void model_from_turbine(const YamlSection& m, DesignInput& in) {
   // generator_speed_witness: a third, bias-free output omega_g = P / (eta_g T_g) from the measured electrical
   // power and generator torque; it makes the common mode of the two speed-sensor biases observable.
   const bool witness = m.get<bool>("generator_speed_witness", false);
-  if (witness && in.subsystem != "drive_train") throw m.error("generator_speed_witness", "only for subsystem drive_train");
+  if (witness && in.subsystem != "drive_train")
+    throw m.error("generator_speed_witness", "only for subsystem drive_train");
   const Eigen::Index mo = mb_out + (witness ? 1 : 0);
   const Eigen::VectorXd ib = vector_or(m, "input_bound", r, 0.0), pb = vector_or(m, "process_bound", n, 0.0),
                         rb = vector_or(m, "bias_rate_bound", mb_out, 0.0),
@@ -63,8 +65,9 @@ void model_from_turbine(const YamlSection& m, DesignInput& in) {
                         ab = vector_or(m, "bias_acceleration_bound", mb_out,
                                        0.0);  // per sample, on the rate state
   if (augment) {
-    const std::vector<std::string> outs =
-        in.subsystem == "drive_train" ? std::vector<std::string>{"bias_omega_r", "bias_omega_g"} : std::vector<std::string>{"bias_beta"};
+    const std::vector<std::string> outs = in.subsystem == "drive_train"
+                                              ? std::vector<std::string>{"bias_omega_r", "bias_omega_g"}
+                                              : std::vector<std::string>{"bias_beta"};
     in.states.insert(in.states.end(), outs.begin(), outs.end());
     if (rates)
       for (const auto& o : outs) in.states.push_back("rate_" + o);
@@ -78,23 +81,29 @@ void model_from_turbine(const YamlSection& m, DesignInput& in) {
     d.C = C;
   }
   const Eigen::Index na = d.A.rows();
-  // Disturbance columns: input errors (through B), process noise per physical state, bias rates, measurement noise.
+  // Disturbance columns: input errors (through B), process noise per physical state, bias rates, measurement
+  // noise.
   std::vector<Eigen::VectorXd> c1, c2;
   for (Eigen::Index j = 0; j < r; ++j)
     if (ib(j) > 0) c1.push_back(d.B.col(j) * ib(j)), c2.push_back(Eigen::VectorXd::Zero(mo));
   for (Eigen::Index j = 0; j < n; ++j)
-    if (pb(j) > 0) c1.push_back(Eigen::VectorXd::Unit(na, j) * pb(j)), c2.push_back(Eigen::VectorXd::Zero(mo));
+    if (pb(j) > 0)
+      c1.push_back(Eigen::VectorXd::Unit(na, j) * pb(j)), c2.push_back(Eigen::VectorXd::Zero(mo));
   if (augment)
     for (Eigen::Index j = 0; j < mb_out; ++j)
-      if (rb(j) > 0) c1.push_back(Eigen::VectorXd::Unit(na, n + j) * rb(j)), c2.push_back(Eigen::VectorXd::Zero(mo));
+      if (rb(j) > 0)
+        c1.push_back(Eigen::VectorXd::Unit(na, n + j) * rb(j)), c2.push_back(Eigen::VectorXd::Zero(mo));
   if (rates)
     for (Eigen::Index j = 0; j < mb_out; ++j)
       if (ab(j) > 0)
         c1.push_back(Eigen::VectorXd::Unit(na, n + mb_out + j) * ab(j)),
             c2.push_back(Eigen::VectorXd::Zero(mo));
   for (Eigen::Index j = 0; j < mo; ++j)
-    if (mb(j) > 0) c1.push_back(Eigen::VectorXd::Zero(na)), c2.push_back(Eigen::VectorXd::Unit(mo, j) * mb(j));
-  if (c1.empty()) throw m.error("", "no disturbance: give input_bound, process_bound, bias_rate_bound or measurement_bound");
+    if (mb(j) > 0)
+      c1.push_back(Eigen::VectorXd::Zero(na)), c2.push_back(Eigen::VectorXd::Unit(mo, j) * mb(j));
+  if (c1.empty())
+    throw m.error("",
+                  "no disturbance: give input_bound, process_bound, bias_rate_bound or measurement_bound");
   in.problem.A = d.A;
   in.problem.B = d.B;
   in.problem.C = d.C;
@@ -110,12 +119,13 @@ void model_from_turbine(const YamlSection& m, DesignInput& in) {
 }  // namespace
 
 DesignInput load_design_input(const YamlSection& s) {
-  s.require_known_keys({"name", "structure", "objective", "alpha", "alpha_search", "model", "A", "B", "C", "W1", "W2",
-                        "Qw", "state_scale", "states", "sample_time", "subsystem"});
+  s.require_known_keys({"name", "structure", "objective", "alpha", "alpha_search", "model", "A", "B", "C",
+                        "W1", "W2", "Qw", "state_scale", "states", "sample_time", "subsystem"});
   DesignInput in;
   in.name = s.get<std::string>("name", "design");
-  in.problem.structure = s.get_choice("structure", "observer", {"paper", "observer"}) == "paper" ? QbStructure::kPaper
-                                                                                                 : QbStructure::kObserver;
+  in.problem.structure = s.get_choice("structure", "observer", {"paper", "observer"}) == "paper"
+                             ? QbStructure::kPaper
+                             : QbStructure::kObserver;
   const std::string objective = s.get_choice("objective", "trace", {"trace", "margin", "feasibility"});
   in.problem.objective = objective == "trace"    ? QbObjective::kTrace
                          : objective == "margin" ? QbObjective::kMargin
@@ -141,20 +151,24 @@ DesignInput load_design_input(const YamlSection& s) {
     in.problem.B = yaml_matrix(s, "B");
     in.problem.C = yaml_matrix(s, "C");
     in.problem.W1 = yaml_matrix(s, "W1");
-    in.problem.W2 = s.has("W2") ? yaml_matrix(s, "W2")
-                                : Eigen::MatrixXd::Zero(in.problem.C.rows(), in.problem.W1.cols());
+    in.problem.W2 =
+        s.has("W2") ? yaml_matrix(s, "W2") : Eigen::MatrixXd::Zero(in.problem.C.rows(), in.problem.W1.cols());
     in.states = s.get<std::vector<std::string>>("states", {});
   }
-  in.problem.Qw = s.has("Qw") ? yaml_matrix(s, "Qw") : Eigen::MatrixXd::Identity(in.problem.W1.cols(), in.problem.W1.cols());
+  in.problem.Qw = s.has("Qw") ? yaml_matrix(s, "Qw")
+                              : Eigen::MatrixXd::Identity(in.problem.W1.cols(), in.problem.W1.cols());
   if (s.has("state_scale")) in.problem.state_scale = yaml_matrix(s, "state_scale").col(0);
   if (in.states.empty())
     for (Eigen::Index i = 0; i < in.problem.A.rows(); ++i) in.states.push_back("x" + std::to_string(i + 1));
   const std::string why = check_problem(in.problem);
   if (!why.empty()) throw s.error("", "ill-posed design: " + why);
-  if (static_cast<Eigen::Index>(in.states.size()) != in.problem.A.rows()) throw s.error("states", "must name every state");
+  if (static_cast<Eigen::Index>(in.states.size()) != in.problem.A.rows())
+    throw s.error("states", "must name every state");
   return in;
 }
 
-DesignInput load_design_input_file(const std::string& path) { return load_design_input(YamlSection::load_file(path)); }
+DesignInput load_design_input_file(const std::string& path) {
+  return load_design_input(YamlSection::load_file(path));
+}
 
 }  // namespace windfdi::sensor_bias

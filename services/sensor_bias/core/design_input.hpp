@@ -13,15 +13,16 @@ namespace windfdi::sensor_bias {
 
 /// A design request as read from a design YAML (documented in services/sensor_bias/README.md).
 struct DesignInput {
-  std::string name;                 ///< free text, copied to the gain file
+  std::string name;                   ///< free text, copied to the gain file
   std::string subsystem = "generic";  ///< drive_train, pitch or generic
   QbProblem problem;
-  bool fixed_alpha = false;         ///< true: solve at `alpha` only; false: search alpha in (0, 1)
-  double alpha = 0.0;               ///< (0, 1)
+  bool fixed_alpha = false;  ///< true: solve at `alpha` only; false: search alpha in (0, 1)
+  double alpha = 0.0;        ///< (0, 1)
   AlphaSearch search;
   double sample_time = 0.01;        ///< s
   std::vector<std::string> states;  ///< state names (the gain file's and the service's check)
-  double aero_damping = 0.0;        ///< N m s/rad folded into A (drive train); the service adds k_a omega_r back to T_aero
+  double aero_damping =
+      0.0;  ///< N m s/rad folded into A (drive train); the service adds k_a omega_r back to T_aero
 };
 
 /// Reads a design YAML. Matrices are lists of rows. Errors are ConfigErrors naming file, line and key.

@@ -31,9 +31,11 @@ std::string gain_file_text(const DesignInput& in, const QbSolution& sol, const s
   o << "structure: " << (in.problem.structure == QbStructure::kPaper ? "paper" : "observer") << "\n";
   o << "sample_time: " << format_number(in.sample_time) << "    # s\n";
   o << "alpha: " << format_number(sol.alpha) << "\n";
-  o << "aero_damping: " << format_number(in.aero_damping) << "    # N m s/rad in A; input is T_aero + k_a omega_r\n";
+  o << "aero_damping: " << format_number(in.aero_damping)
+    << "    # N m s/rad in A; input is T_aero + k_a omega_r\n";
   o << "trace: " << format_number(sol.trace) << "    # tr(P) (+ tr(R)): larger = smaller invariant set\n";
-  o << "lmi_max_eigenvalue: " << format_number(sol.lmi_max_eigenvalue) << "    # independent check, must be < 0\n";
+  o << "lmi_max_eigenvalue: " << format_number(sol.lmi_max_eigenvalue)
+    << "    # independent check, must be < 0\n";
   o << "closed_loop_radius: " << format_number(sol.closed_loop_radius) << "\n";
   o << "states: [";
   for (std::size_t i = 0; i < in.states.size(); ++i) o << (i ? ", " : "") << in.states[i];
@@ -41,7 +43,8 @@ std::string gain_file_text(const DesignInput& in, const QbSolution& sol, const s
   if (sol.state_bound.size())
     o << "state_bound: " << row_text(sol.state_bound.transpose()) << "    # max |e_i| on the invariant set\n";
   if (sol.bias_bound.size())
-    o << "bias_bound: " << row_text(sol.bias_bound.transpose()) << "    # per output, bias-estimation error bound\n";
+    o << "bias_bound: " << row_text(sol.bias_bound.transpose())
+      << "    # per output, bias-estimation error bound\n";
   write_matrix(o, "A", in.problem.A);
   write_matrix(o, "B", in.problem.B);
   write_matrix(o, "C", in.problem.C);
@@ -53,8 +56,9 @@ std::string gain_file_text(const DesignInput& in, const QbSolution& sol, const s
 
 GainFile load_gain_file(const std::string& path) {
   const YamlSection s = YamlSection::load_file(path);
-  s.require_known_keys({"name", "subsystem", "structure", "sample_time", "alpha", "trace", "lmi_max_eigenvalue",
-                        "closed_loop_radius", "aero_damping", "states", "state_bound", "bias_bound", "A", "B", "C", "K", "P", "R"});
+  s.require_known_keys({"name", "subsystem", "structure", "sample_time", "alpha", "trace",
+                        "lmi_max_eigenvalue", "closed_loop_radius", "aero_damping", "states", "state_bound",
+                        "bias_bound", "A", "B", "C", "K", "P", "R"});
   GainFile g;
   g.file = path;
   g.name = s.get<std::string>("name", "");
@@ -80,7 +84,8 @@ GainFile load_gain_file(const std::string& path) {
   if (g.B.rows() != n) throw s.error("B", "must have as many rows as A");
   if (g.C.cols() != n) throw s.error("C", "must have as many columns as A");
   if (g.K.rows() != n || g.K.cols() != g.C.rows()) throw s.error("K", "must be (states) x (outputs)");
-  // An observer gain must carry its QB certificate; a paper-mode gain need not (K only shapes a transient there).
+  // An observer gain must carry its QB certificate; a paper-mode gain need not (K only shapes a transient
+  // there).
   if (g.structure == "observer" && !(g.lmi_max_eigenvalue < 0.0))
     throw s.error("lmi_max_eigenvalue", "the design is not certified (must be < 0)");
   if (!g.states.empty() && static_cast<Eigen::Index>(g.states.size()) != n)
@@ -91,7 +96,8 @@ GainFile load_gain_file(const std::string& path) {
 Eigen::MatrixXd yaml_matrix(const YamlSection& s, const std::string& key) {
   if (!s.has(key)) throw s.error(key, "required matrix is missing");
   const YAML::Node n = s.node()[key];
-  if (!n.IsSequence() || n.size() == 0) throw s.error(key, "must be a non-empty list of rows (or of numbers)");
+  if (!n.IsSequence() || n.size() == 0)
+    throw s.error(key, "must be a non-empty list of rows (or of numbers)");
   try {
     if (!n[0].IsSequence()) {
       Eigen::MatrixXd v(n.size(), 1);
@@ -104,8 +110,8 @@ Eigen::MatrixXd yaml_matrix(const YamlSection& s, const std::string& key) {
     for (std::size_t i = 0; i < n.size(); ++i) {
       if (!n[i].IsSequence() || n[i].size() != cols)
         throw ConfigError(s.file(), n[i].Mark().line + 1, s.key_path(key),
-                          "row " + std::to_string(i) + " has " + std::to_string(n[i].size()) + " entries, expected " +
-                              std::to_string(cols));
+                          "row " + std::to_string(i) + " has " + std::to_string(n[i].size()) +
+                              " entries, expected " + std::to_string(cols));
       for (std::size_t j = 0; j < cols; ++j)
         M(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = n[i][j].as<double>();
     }

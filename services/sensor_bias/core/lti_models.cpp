@@ -1,18 +1,19 @@
-// Discrete-time drive-train and pitch models of Witczak et al. (eqs 31-40), their bias-augmented forms, and discretisation.
+// Discrete-time drive-train and pitch models of Witczak et al. (eqs 31-40), their bias-augmented forms, and
+// discretisation.
 #include "lti_models.hpp"
 
 #include <unsupported/Eigen/MatrixFunctions>
 
 namespace windfdi::sensor_bias {
 
-void drive_train_continuous(const TurbineParams& p, double aero_damping, Eigen::MatrixXd& A, Eigen::MatrixXd& B,
-                            Eigen::MatrixXd& C) {
+void drive_train_continuous(const TurbineParams& p, double aero_damping, Eigen::MatrixXd& A,
+                            Eigen::MatrixXd& B, Eigen::MatrixXd& C) {
   const double jr = p.rotor_inertia, jg = p.generator_inertia, n = p.gear_ratio, k = p.drive_train_stiffness,
                bdt = p.drive_train_damping, br = p.rotor_friction, bg = p.generator_friction,
                eta = p.drive_train_efficiency;
   A.resize(3, 3);
   // Witczak et al. eq 31 (plus the design-only aerodynamic damping), eq 32, eq 33.
-  A << -(bdt + br + aero_damping) / jr, bdt / (n * jr), -k / jr,  //
+  A << -(bdt + br + aero_damping) / jr, bdt / (n * jr), -k / jr,                        //
       eta * bdt / (n * jg), -(eta * bdt / (n * n * jg) + bg / jg), eta * k / (n * jg),  //
       1.0, -1.0 / n, 0.0;
   B.resize(3, 2);
@@ -21,7 +22,8 @@ void drive_train_continuous(const TurbineParams& p, double aero_damping, Eigen::
   C << 1, 0, 0, 0, 1, 0;
 }
 
-void pitch_continuous(double omega_n, double zeta, Eigen::MatrixXd& A, Eigen::MatrixXd& B, Eigen::MatrixXd& C) {
+void pitch_continuous(double omega_n, double zeta, Eigen::MatrixXd& A, Eigen::MatrixXd& B,
+                      Eigen::MatrixXd& C) {
   // Eq 34 corrected: beta'' = -2 zeta omega_n beta' - omega_n^2 (beta - beta_ref).
   A.resize(2, 2);
   A << 0.0, 1.0, -omega_n * omega_n, -2.0 * zeta * omega_n;
@@ -31,7 +33,8 @@ void pitch_continuous(double omega_n, double zeta, Eigen::MatrixXd& A, Eigen::Ma
   C << 1.0, 0.0;
 }
 
-DiscreteModel discretise_zoh(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& C, double T) {
+DiscreteModel discretise_zoh(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& C,
+                             double T) {
   const Eigen::Index n = A.rows(), r = B.cols();
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n + r, n + r);
   M.topLeftCorner(n, n) = A * T;
@@ -40,7 +43,8 @@ DiscreteModel discretise_zoh(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B,
   return {E.topLeftCorner(n, n), E.topRightCorner(n, r), C, T};
 }
 
-DiscreteModel discretise_euler(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& C, double T) {
+DiscreteModel discretise_euler(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& C,
+                               double T) {
   return {Eigen::MatrixXd::Identity(A.rows(), A.cols()) + A * T, B * T, C, T};
 }
 
@@ -112,8 +116,7 @@ Observability observability(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C) 
   o.pbh_sigma_min.resize(n);
   for (Eigen::Index i = 0; i < n; ++i) {
     Eigen::MatrixXcd M(n + C.rows(), n);
-    M.topRows(n) = A.cast<std::complex<double>>() -
-                   o.eigenvalues(i) * Eigen::MatrixXcd::Identity(n, n);
+    M.topRows(n) = A.cast<std::complex<double>>() - o.eigenvalues(i) * Eigen::MatrixXcd::Identity(n, n);
     M.bottomRows(C.rows()) = C.cast<std::complex<double>>();
     Eigen::JacobiSVD<Eigen::MatrixXcd> s(M);
     o.pbh_sigma_min(i) = s.singularValues()(n - 1);

@@ -1,4 +1,5 @@
-// Fixed-size estimators of Witczak et al.: the paper's bias estimator (eqs 5 + 8) and the bias-augmented observer.
+// Fixed-size estimators of Witczak et al.: the paper's bias estimator (eqs 5 + 8) and the bias-augmented
+// observer.
 #pragma once
 
 #include <Eigen/Dense>

@@ -1,4 +1,5 @@
-// Quadratic-boundedness gain design with CSDP (Witczak et al. Theorem 1, eq 19; observer form of Alessandri et al. 2006).
+// Quadratic-boundedness gain design with CSDP (Witczak et al. Theorem 1, eq 19; observer form of Alessandri
+// et al. 2006).
 #include "qb_design.hpp"
 
 #include <unistd.h>
@@ -128,8 +129,8 @@ int csdp_lmi(const std::vector<MatrixXd>& F, const MatrixXd& F0, double c, bool 
     for (int j = 1; j <= N; ++j) C.blocks[1].data.mat[ijtok(i, j, N)] = F0(i - 1, j - 1) + (i == j ? c : 0.0);
   double* av = static_cast<double*>(std::malloc(static_cast<std::size_t>(k + 1) * sizeof(double)));
   for (int i = 1; i <= k; ++i) av[i] = a(i - 1);
-  auto* constraints =
-      static_cast<struct constraintmatrix*>(std::malloc(static_cast<std::size_t>(k + 1) * sizeof(struct constraintmatrix)));
+  auto* constraints = static_cast<struct constraintmatrix*>(
+      std::malloc(static_cast<std::size_t>(k + 1) * sizeof(struct constraintmatrix)));
   for (int i = 1; i <= k; ++i) {
     std::vector<std::pair<std::pair<int, int>, double>> entries;
     if (with_t && i == k) {
@@ -177,16 +178,26 @@ int csdp_lmi(const std::vector<MatrixXd>& F, const MatrixXd& F0, double c, bool 
 
 const char* csdp_status_text(int s) {
   switch (s) {
-    case 0: return "solved";
-    case 1: return "primal infeasible (the LMI's objective is unbounded)";
-    case 2: return "dual infeasible (the LMI has no solution)";
-    case 3: return "solved to reduced accuracy";
-    case 4: return "maximum iterations reached";
-    case 5: return "stuck at the edge of primal feasibility";
-    case 6: return "stuck at the edge of dual feasibility";
-    case 7: return "lack of progress";
-    case 8: return "X, Z or O singular";
-    default: return "numerical failure (NaN or Inf)";
+    case 0:
+      return "solved";
+    case 1:
+      return "primal infeasible (the LMI's objective is unbounded)";
+    case 2:
+      return "dual infeasible (the LMI has no solution)";
+    case 3:
+      return "solved to reduced accuracy";
+    case 4:
+      return "maximum iterations reached";
+    case 5:
+      return "stuck at the edge of primal feasibility";
+    case 6:
+      return "stuck at the edge of dual feasibility";
+    case 7:
+      return "lack of progress";
+    case 8:
+      return "X, Z or O singular";
+    default:
+      return "numerical failure (NaN or Inf)";
   }
 }
 
@@ -199,16 +210,18 @@ std::string check_problem(const QbProblem& q) {
   if (n == 0 || q.A.cols() != n) return "A must be square and non-empty";
   if (q.C.cols() != n || q.C.rows() == 0) return "C must have as many columns as A";
   if (q.W1.rows() != n || q.W1.cols() == 0) return "W1 must have as many rows as A and at least one column";
-  if (q.W2.rows() != q.C.rows() || q.W2.cols() != q.W1.cols()) return "W2 must be (rows of C) x (columns of W1)";
-  if (q.Qw.rows() != q.W1.cols() || q.Qw.cols() != q.W1.cols()) return "Qw must be square with as many rows as W1 has columns";
+  if (q.W2.rows() != q.C.rows() || q.W2.cols() != q.W1.cols())
+    return "W2 must be (rows of C) x (columns of W1)";
+  if (q.Qw.rows() != q.W1.cols() || q.Qw.cols() != q.W1.cols())
+    return "Qw must be square with as many rows as W1 has columns";
   if (q.B.size() > 0 && q.B.rows() != n) return "B must have as many rows as A";
   if (!finite(q.A) || !finite(q.C) || !finite(q.W1) || !finite(q.W2) || !finite(q.Qw) || !finite(q.B))
     return "a matrix holds NaN or Inf";
   if ((q.Qw - q.Qw.transpose()).norm() > 1e-9 * (1.0 + q.Qw.norm())) return "Qw must be symmetric";
   Eigen::SelfAdjointEigenSolver<MatrixXd> es(q.Qw);
   if (es.eigenvalues().minCoeff() <= 0.0) return "Qw must be positive definite (eq 3)";
-  if (q.state_scale.size() != 0 && (q.state_scale.size() != n || (q.state_scale.array() <= 0.0).any() ||
-                                    !q.state_scale.allFinite()))
+  if (q.state_scale.size() != 0 &&
+      (q.state_scale.size() != n || (q.state_scale.array() <= 0.0).any() || !q.state_scale.allFinite()))
     return "state_scale must hold one positive number per state";
   return "";
 }
@@ -295,7 +308,8 @@ QbSolution qb_solve_impl(const QbProblem& q, double alpha, const MatrixXd* Kfix)
     F.push_back(qb_lmi(qs, alpha, P, R, U) - F0);
     y0[static_cast<std::size_t>(i)] = 0.0;
     if (F.back().cwiseAbs().maxCoeff() == 0.0) {
-      sol.message = "ill-posed: decision variable " + std::to_string(i) + " does not enter the LMI (C has a zero column?)";
+      sol.message = "ill-posed: decision variable " + std::to_string(i) +
+                    " does not enter the LMI (C has a zero column?)";
       return sol;
     }
   }
@@ -308,7 +322,8 @@ QbSolution qb_solve_impl(const QbProblem& q, double alpha, const MatrixXd* Kfix)
   sol.margin = status == 0 || status == 3 ? y(l.count()) : -1.0;
   const double scale_ref = std::max(1.0, F0.cwiseAbs().maxCoeff());
   if ((status != 0 && status != 3) || !(sol.margin > 1e-9 * scale_ref)) {
-    sol.message = "infeasible at alpha " + std::to_string(alpha) + ": largest margin t = " + std::to_string(sol.margin) +
+    sol.message = "infeasible at alpha " + std::to_string(alpha) +
+                  ": largest margin t = " + std::to_string(sol.margin) +
                   " (CSDP: " + csdp_status_text(status) + ")";
     if (alpha >= qb_alpha_upper_bound(q))
       sol.message += "; eq 12 keeps every eigenvalue of A, so alpha must be < 1 - rho(A)^2 = " +
@@ -356,7 +371,8 @@ QbSolution qb_solve_impl(const QbProblem& q, double alpha, const MatrixXd* Kfix)
   sol.K = Kfix ? *Kfix : MatrixXd(sol.P.ldlt().solve(sol.U));
   // Independent check with Eigen on the original matrices.
   const MatrixXd M = qb_lmi(q, alpha, sol.P, l.paper ? sol.R : MatrixXd::Zero(l.n, l.n), sol.U);
-  sol.lmi_max_eigenvalue = Eigen::SelfAdjointEigenSolver<MatrixXd>(0.5 * (M + M.transpose())).eigenvalues().maxCoeff();
+  sol.lmi_max_eigenvalue =
+      Eigen::SelfAdjointEigenSolver<MatrixXd>(0.5 * (M + M.transpose())).eigenvalues().maxCoeff();
   const MatrixXd Acl = q.A - sol.K * q.C;
   if (l.paper) {
     MatrixXd Mc = MatrixXd::Zero(2 * l.n, 2 * l.n);
@@ -371,7 +387,8 @@ QbSolution qb_solve_impl(const QbProblem& q, double alpha, const MatrixXd* Kfix)
   sol.state_bound = Pinv.diagonal().cwiseMax(0.0).cwiseSqrt();
   sol.trace = P.trace() + (l.paper ? R.trace() : 0.0);  // scaled coordinates (the objective)
   const Eigen::LLT<MatrixXd> Lq(q.Qw);
-  const MatrixXd Qi_half = Lq.matrixL().solve(MatrixXd::Identity(l.s, l.s)).transpose();  // Qw^-1/2 up to rotation
+  const MatrixXd Qi_half =
+      Lq.matrixL().solve(MatrixXd::Identity(l.s, l.s)).transpose();  // Qw^-1/2 up to rotation
   sol.bias_bound.resize(l.m);
   for (int j = 0; j < l.m; ++j) {
     if (l.paper) {
@@ -410,7 +427,8 @@ QbSolution qb_design(const QbProblem& q, const AlphaSearch& s) {
   const double hi = std::min(s.max, qb_alpha_upper_bound(q) * 0.999);
   const double lo = std::min(s.min, hi * 0.5);
   if (!(hi > 0.0) || s.grid < 2) {
-    none.message = "no alpha in (0, 1) can work: the bound 1 - rho(A)^2 is " + std::to_string(qb_alpha_upper_bound(q));
+    none.message =
+        "no alpha in (0, 1) can work: the bound 1 - rho(A)^2 is " + std::to_string(qb_alpha_upper_bound(q));
     return none;
   }
   auto value = [&](const QbSolution& x) {
@@ -418,10 +436,12 @@ QbSolution qb_design(const QbProblem& q, const AlphaSearch& s) {
   };
   int solves = 0;
   QbSolution best;
-  best.message = "infeasible for every alpha tried in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  best.message =
+      "infeasible for every alpha tried in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
   int best_i = -1;
   std::vector<double> grid;
-  for (int i = 0; i < s.grid; ++i) grid.push_back(std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / (s.grid - 1)));
+  for (int i = 0; i < s.grid; ++i)
+    grid.push_back(std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / (s.grid - 1)));
   for (int i = 0; i < s.grid; ++i) {
     QbSolution x = qb_solve(q, grid[static_cast<std::size_t>(i)]);
     solves += x.solves;

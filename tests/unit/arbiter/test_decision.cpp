@@ -77,28 +77,54 @@ INSTANTIATE_TEST_SUITE_P(
     Rows, DecisionTable,
     ::testing::Values(
         Row{"blade_abrupt", fault("blade_load", "blade_moment_sensor_2", "sensor_abrupt"), Mode::kNormal,
-            IpcSource::kLidarModel, IceMode::kNormal, kNominal, false, false, kNone, "ipc_source=lidar_model"},
+            IpcSource::kLidarModel, IceMode::kNormal, kNominal, false, false, kNone,
+            "ipc_source=lidar_model"},
         Row{"blade_drift", fault("blade_load", "blade_moment_sensor_1", "sensor_drift"), Mode::kNormal,
-            IpcSource::kLidarModel, IceMode::kNormal, kNominal, false, false, kNone, "ipc_source=lidar_model"},
+            IpcSource::kLidarModel, IceMode::kNormal, kNominal, false, false, kNone,
+            "ipc_source=lidar_model"},
         Row{"blade_intermittent", fault("blade_load", "blade_moment_sensor_3", "sensor_intermittent"),
             Mode::kNormal, IpcSource::kLidarModel, IceMode::kNormal, kNominal, false, false, kNone,
             "ipc_source=lidar_model"},
-        Row{"rotor_speed_bias_small", fault("sensor_bias", "rotor_speed_sensor", "sensor_bias", "fault", 0.03),
-            Mode::kNormal, IpcSource::kStrainGauge, IceMode::kNormal, kNominal, true, false, kNone,
+        Row{"rotor_speed_bias_small",
+            fault("sensor_bias", "rotor_speed_sensor", "sensor_bias", "fault", 0.03), Mode::kNormal,
+            IpcSource::kStrainGauge, IceMode::kNormal, kNominal, true, false, kNone,
             "use_corrected_rotor_speed"},
         Row{"rotor_speed_bias_too_large",
             fault("sensor_bias", "rotor_speed_sensor", "sensor_bias", "fault", 0.5), Mode::kDegraded,
             IpcSource::kStrainGauge, IceMode::kNormal, kNominal, true, false, kNone, "mode=degraded"},
-        Row{"generator_speed_bias", fault("sensor_bias", "generator_speed_sensor", "sensor_bias", "fault", 3.0),
-            Mode::kNormal, IpcSource::kStrainGauge, IceMode::kNormal, kNominal, false, true, kNone,
+        Row{"generator_speed_bias",
+            fault("sensor_bias", "generator_speed_sensor", "sensor_bias", "fault", 3.0), Mode::kNormal,
+            IpcSource::kStrainGauge, IceMode::kNormal, kNominal, false, true, kNone,
             "use_corrected_generator_speed"},
-        Row{"pitch_bias", fault("sensor_bias", "pitch_sensor_3", "sensor_bias", "fault", 1.0), Mode::kNormal,
-            IpcSource::kStrainGauge, IceMode::kNormal, kNominal, false, false, {false, false, true},
+        Row{"pitch_bias",
+            fault("sensor_bias", "pitch_sensor_3", "sensor_bias", "fault", 1.0),
+            Mode::kNormal,
+            IpcSource::kStrainGauge,
+            IceMode::kNormal,
+            kNominal,
+            false,
+            false,
+            {false, false, true},
             "use_corrected_pitch_sensor_3"},
-        Row{"pump_wear", fault("pitch_diag", "pitch_actuator_2", "pump_wear", "warning"), Mode::kNormal,
-            IpcSource::kStrainGauge, IceMode::kNormal, {10, 5, 10}, false, false, kNone, "pitch_rate_limit_2"},
-        Row{"high_air_content", fault("pitch_diag", "pitch_actuator_1", "high_air_content", "warning"),
-            Mode::kNormal, IpcSource::kStrainGauge, IceMode::kNormal, {5, 10, 10}, false, false, kNone,
+        Row{"pump_wear",
+            fault("pitch_diag", "pitch_actuator_2", "pump_wear", "warning"),
+            Mode::kNormal,
+            IpcSource::kStrainGauge,
+            IceMode::kNormal,
+            {10, 5, 10},
+            false,
+            false,
+            kNone,
+            "pitch_rate_limit_2"},
+        Row{"high_air_content",
+            fault("pitch_diag", "pitch_actuator_1", "high_air_content", "warning"),
+            Mode::kNormal,
+            IpcSource::kStrainGauge,
+            IceMode::kNormal,
+            {5, 10, 10},
+            false,
+            false,
+            kNone,
             "pitch_rate_limit_1"},
         Row{"hydraulic_leakage", fault("pitch_diag", "pitch_actuator_3", "hydraulic_leakage", "critical"),
             Mode::kSafeStop, IpcSource::kStrainGauge, IceMode::kNormal, kNominal, false, false, kNone,
@@ -275,17 +301,11 @@ TEST(Decision, AdaptedIceCarriesTheInertiaEstimate) {
 
 TEST(Decision, ConfigLoaderRejectsBadValues) {
   const std::string path = ::testing::TempDir() + "/arbiter.yaml";
-  {
-    std::ofstream(path) << "clear_hold: 10\nderated_pitch_rate: 20\nnominal_pitch_rate: 10\n";
-  }
+  { std::ofstream(path) << "clear_hold: 10\nderated_pitch_rate: 20\nnominal_pitch_rate: 10\n"; }
   EXPECT_THROW(load_arbiter_config(YamlSection::load_file(path)), ConfigError);
-  {
-    std::ofstream(path) << "clear_hod: 10\n";
-  }
+  { std::ofstream(path) << "clear_hod: 10\n"; }
   EXPECT_THROW(load_arbiter_config(YamlSection::load_file(path)), ConfigError);
-  {
-    std::ofstream(path) << "clear_hold: 12\n";
-  }
+  { std::ofstream(path) << "clear_hold: 12\n"; }
   EXPECT_DOUBLE_EQ(load_arbiter_config(YamlSection::load_file(path)).clear_hold, 12.0);
 }
 
@@ -324,7 +344,8 @@ TEST(Proportionate, AFlippingClassIsUncertainAndDeratedUntilItSettles) {
   Arbiter a;  // class_settle_time 30 s, stop_confirm_time 10 s
   auto raise = [&](const char* cls, double t) {
     // pitch_diag calls only a leak critical (its stop severity)
-    a.on_fault(fault("pitch_diag", "pitch_actuator_2", cls, std::string(cls) == "hydraulic_leakage" ? "critical" : "fault"),
+    a.on_fault(fault("pitch_diag", "pitch_actuator_2", cls,
+                     std::string(cls) == "hydraulic_leakage" ? "critical" : "fault"),
                t);
   };
   auto clear = [&](const char* cls, double t) {

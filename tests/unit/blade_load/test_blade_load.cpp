@@ -1,5 +1,5 @@
-// blade_load tests: Stotsky 2014's Appendix example, harmonic least squares on synthetic and plant signals, the
-// t-tests, persistence, adaptation, and fault detection on the plant.
+// blade_load tests: Stotsky 2014's Appendix example, harmonic least squares on synthetic and plant signals,
+// the t-tests, persistence, adaptation, and fault detection on the plant.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -31,8 +31,16 @@ TEST(Appendix, InformationMatrixAndSchurComplementAsPrinted) {
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 4; ++j) EXPECT_NEAR(G(i, j), printed[i][j], 1e-4) << i << "," << j;
   // AND eq A2 and the closed form of g11 (A3) agree with the sums (1e-9)
-  EXPECT_NEAR(cosine_sum(0.0228, 83), [] { double s = 0; for (int k = 1; k <= 83; ++k) s += std::cos(0.0228 * k); return s; }(), 1e-9);
-  EXPECT_NEAR(G(0, 0), 83 / 2.0 + std::sin(83 * 0.0228) * std::cos(84 * 0.0228) / (2 * std::sin(0.0228)), 1e-9);
+  EXPECT_NEAR(
+      cosine_sum(0.0228, 83),
+      [] {
+        double s = 0;
+        for (int k = 1; k <= 83; ++k) s += std::cos(0.0228 * k);
+        return s;
+      }(),
+      1e-9);
+  EXPECT_NEAR(G(0, 0), 83 / 2.0 + std::sin(83 * 0.0228) * std::cos(84 * 0.0228) / (2 * std::sin(0.0228)),
+              1e-9);
   // WHEN partitioned, G is not SDD, A and the Schur complement are SDD and positive definite, and the
   // Schur complement is the printed one (tolerance 1e-3: the paper prints 4 decimals of G)
   const Partition p = partition(G);
@@ -62,7 +70,8 @@ double run_synthetic(RegressorMode mode, double phase1, uint64_t seed) {
   for (int k = 1; k <= 20000; ++k) {
     const double psi = omega * dt * k;  // the paper's omega k; azimuth mode sees it as the measured azimuth
     double y = noise(rng);
-    for (int h = 0; h < 4; ++h) y += A[h] * std::cos((h + 1) * psi + (mode == RegressorMode::kPaper ? 0.0 : ph[h]));
+    for (int h = 0; h < 4; ++h)
+      y += A[h] * std::cos((h + 1) * psi + (mode == RegressorMode::kPaper ? 0.0 : ph[h]));
     est.update(y, std::fmod(psi, 2 * M_PI), omega);
     if (k % 100 == 0 && est.solve().valid) {
       se += (est.amplitude() - A[0]) * (est.amplitude() - A[0]);
@@ -78,7 +87,8 @@ TEST(HarmonicEstimator, FourHarmonicsWithNoiseWithinTwoPercent) {
   // THEN the paper's cosine regressor (phase 0, as it assumes) and the default cos+sin regressor (any phase)
   // both recover A_1 within 2 % rms
   EXPECT_LT(run_synthetic(RegressorMode::kPaper, 0.0, 1), 0.02);
-  for (double phase : {0.0, 0.7, 2.5}) EXPECT_LT(run_synthetic(RegressorMode::kAzimuth, phase, 2), 0.02) << phase;
+  for (double phase : {0.0, 0.7, 2.5})
+    EXPECT_LT(run_synthetic(RegressorMode::kAzimuth, phase, 2), 0.02) << phase;
 }
 
 TEST(HarmonicEstimator, PaperRegressorIsBlindToAnUnknownPhase) {
@@ -98,7 +108,8 @@ TEST(HarmonicEstimator, RefusesWindowsShorterThanARevolutionAndUsesThePartitionW
   c.window_samples = 160;
   c.mean_time = 0.0;
   HarmonicEstimator short_win(c);
-  for (int k = 1; k <= 1000; ++k) short_win.update(std::cos(1.3 * 0.01 * k), std::fmod(1.3 * 0.01 * k, 2 * M_PI), 1.3);
+  for (int k = 1; k <= 1000; ++k)
+    short_win.update(std::cos(1.3 * 0.01 * k), std::fmod(1.3 * 0.01 * k, 2 * M_PI), 1.3);
   // THEN it is refused (not positive definite or ill-conditioned), never published
   EXPECT_FALSE(short_win.solve().valid);
   EXPECT_EQ(short_win.info().path, SolvePath::kPartitioned);
@@ -110,7 +121,8 @@ TEST(HarmonicEstimator, RefusesWindowsShorterThanARevolutionAndUsesThePartitionW
   p.dt = 1.0;
   p.min_rcond = 1e-6;
   HarmonicEstimator paper(p);
-  for (int k = 1; k <= 83; ++k) paper.update(2.0 * std::cos(0.0228 * k) + 0.5 * std::cos(2 * 0.0228 * k), 0.0, 0.0228);
+  for (int k = 1; k <= 83; ++k)
+    paper.update(2.0 * std::cos(0.0228 * k) + 0.5 * std::cos(2 * 0.0228 * k), 0.0, 0.0228);
   // THEN the partitioned path proves it positive definite and solves exactly (1e-6)
   ASSERT_TRUE(paper.solve().valid) << paper.info().reason;
   EXPECT_EQ(paper.info().path, SolvePath::kPartitioned);
@@ -119,7 +131,8 @@ TEST(HarmonicEstimator, RefusesWindowsShorterThanARevolutionAndUsesThePartitionW
   HarmonicConfig d;
   d.mean_time = 0.0;
   HarmonicEstimator rev(d);
-  for (int k = 1; k <= 3000; ++k) rev.update(std::cos(1.3 * 0.01 * k - 0.4), std::fmod(1.3 * 0.01 * k, 2 * M_PI), 1.3);
+  for (int k = 1; k <= 3000; ++k)
+    rev.update(std::cos(1.3 * 0.01 * k - 0.4), std::fmod(1.3 * 0.01 * k, 2 * M_PI), 1.3);
   ASSERT_TRUE(rev.solve().valid);
   EXPECT_EQ(rev.info().path, SolvePath::kSdd);
   EXPECT_NEAR(rev.amplitude(), 1.0, 1e-3);
@@ -204,11 +217,13 @@ TEST(PlantAmplitude, SteadyWindWithinFivePercentOfTruth) {
     // THEN the strain-gauge amplitude is within 5 % rms of the plant's truth. Above rated the IPC drives the
     // true first harmonic towards zero, where a relative error means nothing: the error is taken relative
     // to the mean true amplitude there.
-    std::printf("[measured] steady %g m/s: rms amplitude error %.4f relative, %.0f N m\n", wind, r.rms_error, r.rms_abs);
+    std::printf("[measured] steady %g m/s: rms amplitude error %.4f relative, %.0f N m\n", wind, r.rms_error,
+                r.rms_abs);
     if (wind < 18.0) EXPECT_LT(r.rms_error, 0.05) << wind;
     // At 20 m/s the true amplitude is about 1e3 N m (0.03 % of the 4e6 N m mean load): the estimate must sit
     // at the noise floor, 2e4 N m / sqrt(samples per revolution) ~ 1.5e3 N m.
-    else EXPECT_LT(r.rms_abs, 5e3) << wind;
+    else
+      EXPECT_LT(r.rms_abs, 5e3) << wind;
   }
 }
 
@@ -217,7 +232,8 @@ plant::FaultSpec fault(const std::string& target, const std::string& type, doubl
   return f;
 }
 
-const FaultEvent* first_raised(const std::vector<FaultEvent>& ev, const std::string& component, double after) {
+const FaultEvent* first_raised(const std::vector<FaultEvent>& ev, const std::string& component,
+                               double after) {
   for (const auto& e : ev)
     if (e.raised && e.component == component && e.t >= after) return &e;
   return nullptr;
@@ -227,20 +243,22 @@ TEST(PlantDetection, AbruptTenPercentGainDetectedWithinFiveSeconds) {
   // GIVEN the sensor_abrupt scenario's turbulence and shear (TI 0.08, shear 0.25), a 10 % gain on blade 2 at
   // 400 s (after the 100 s learning), at 8, 12, 16 and 20 m/s, two seeds
   for (uint64_t seed : {21u, 31u})
-  for (double wind : {8.0, 12.0, 16.0, 20.0}) {
-    auto f = fault("blade_moment_2", "gain", 400.0);
-    f.gain = 1.1;
-    const auto r = run_plant(wind, 0.08, 0.25, 0.0, 430, {f}, seed, config(), LoadTable::load_csv(kTable));
-    const FaultEvent* e = first_raised(r.events, "blade_moment_sensor_2", 400.0);
-    ASSERT_NE(e, nullptr) << wind;
-    std::printf("[measured] abrupt %g m/s seed %llu: %s after %.1f s (%s, |t| %.1f vs %.1f)\n", wind,
-                static_cast<unsigned long long>(seed), e->fault.c_str(), e->t - 400.0, e->detail.c_str(),
-                std::fabs(e->statistic), e->threshold);
-    // THEN sensor_abrupt on blade 2 within 5 s, and nothing raised before the fault or on another blade
-    EXPECT_EQ(e->fault, "sensor_abrupt") << wind;
-    EXPECT_LE(e->t - 400.0, 5.0) << wind;
-    for (const auto& x : r.events) EXPECT_TRUE(x.component == "blade_moment_sensor_2" && x.t >= 400.0) << wind << " " << x.component << " " << x.t;
-  }
+    for (double wind : {8.0, 12.0, 16.0, 20.0}) {
+      auto f = fault("blade_moment_2", "gain", 400.0);
+      f.gain = 1.1;
+      const auto r = run_plant(wind, 0.08, 0.25, 0.0, 430, {f}, seed, config(), LoadTable::load_csv(kTable));
+      const FaultEvent* e = first_raised(r.events, "blade_moment_sensor_2", 400.0);
+      ASSERT_NE(e, nullptr) << wind;
+      std::printf("[measured] abrupt %g m/s seed %llu: %s after %.1f s (%s, |t| %.1f vs %.1f)\n", wind,
+                  static_cast<unsigned long long>(seed), e->fault.c_str(), e->t - 400.0, e->detail.c_str(),
+                  std::fabs(e->statistic), e->threshold);
+      // THEN sensor_abrupt on blade 2 within 5 s, and nothing raised before the fault or on another blade
+      EXPECT_EQ(e->fault, "sensor_abrupt") << wind;
+      EXPECT_LE(e->t - 400.0, 5.0) << wind;
+      for (const auto& x : r.events)
+        EXPECT_TRUE(x.component == "blade_moment_sensor_2" && x.t >= 400.0)
+            << wind << " " << x.component << " " << x.t;
+    }
 }
 
 TEST(PlantDetection, APersistentGainStaysAbruptForMinutes) {
@@ -252,9 +270,11 @@ TEST(PlantDetection, APersistentGainStaysAbruptForMinutes) {
     // THEN one event: sensor_abrupt raised on blade 2, never cleared nor re-classified as intermittent while
     // turbulence moves the statistic around its critical value
     std::string seq;
-    for (const auto& e : r.events) seq += e.component + " " + e.fault + (e.raised ? " raised@" : " cleared@") +
-                                          std::to_string(static_cast<int>(e.t)) + " (" + e.detail + "); ";
-    std::printf("[measured] persistent gain seed %llu: %s\n", static_cast<unsigned long long>(seed), seq.c_str());
+    for (const auto& e : r.events)
+      seq += e.component + " " + e.fault + (e.raised ? " raised@" : " cleared@") +
+             std::to_string(static_cast<int>(e.t)) + " (" + e.detail + "); ";
+    std::printf("[measured] persistent gain seed %llu: %s\n", static_cast<unsigned long long>(seed),
+                seq.c_str());
     ASSERT_EQ(r.events.size(), 1u) << seed << ": " << seq;
     EXPECT_EQ(r.events[0].fault, "sensor_abrupt") << seed;
     EXPECT_EQ(r.events[0].component, "blade_moment_sensor_2") << seed;
@@ -371,7 +391,8 @@ TEST(Adaptation, UniformWindPullsAWrongTableBackWithinItsBound) {
   const auto r = run_plant(10.0, 0.02, 0.0, 0.0, 900, {}, 9, c, low);
   // THEN it adapted, and no sensor fault was raised on the way
   EXPECT_GT(r.adaptations, 3);
-  for (const auto& e : r.events) EXPECT_NE(e.component.rfind("blade_moment_sensor", 0), 0u) << e.fault << " " << e.t;
+  for (const auto& e : r.events)
+    EXPECT_NE(e.component.rfind("blade_moment_sensor", 0), 0u) << e.fault << " " << e.t;
   // GIVEN the same in sheared wind (0.2): no adaptation at all
   const auto sheared = run_plant(10.0, 0.02, 0.2, 0.0, 400, {}, 9, c, low);
   EXPECT_EQ(sheared.adaptations, 0);
@@ -491,25 +512,26 @@ TEST(EpisodeClassifier, RecurrenceAfterTheWindowKeepsTheClass) {
 }
 
 // An hour of healthy operation per wind speed and two seeds, turbulence 10-12 % and shear varying (std 0.05).
-// 14 m/s is near rated: the collective pitch keeps reaching its lower limit and the IPC switching off sweeps a
-// blade's pitch through -1 deg, where the plant's k_M is singular (the steep-surface gate).
+// 14 m/s is near rated: the collective pitch keeps reaching its lower limit and the IPC switching off sweeps
+// a blade's pitch through -1 deg, where the plant's k_M is singular (the steep-surface gate).
 TEST(PlantHealthy, AHealthyHourRaisesNothing) {
   for (uint64_t seed : {100u, 200u})
     for (double wind : {8.0, 12.0, 14.0, 16.0, 20.0}) {
-      const auto r = run_plant(wind, wind < 10 ? 0.12 : 0.1, 0.2, 0.05, 3600, {}, seed + static_cast<uint64_t>(wind),
-                               config(), LoadTable::load_csv(kTable));
+      const auto r = run_plant(wind, wind < 10 ? 0.12 : 0.1, 0.2, 0.05, 3600, {},
+                               seed + static_cast<uint64_t>(wind), config(), LoadTable::load_csv(kTable));
       int raised = 0;
       for (const auto& e : r.events)
         if (e.raised && e.component.rfind("blade_moment_sensor", 0) == 0) {
           ++raised;
-          std::printf("[measured]   raised at %.1f s: %s %s (%s)\n", e.t, e.component.c_str(), e.fault.c_str(),
-                      e.detail.c_str());
+          std::printf("[measured]   raised at %.1f s: %s %s (%s)\n", e.t, e.component.c_str(),
+                      e.fault.c_str(), e.detail.c_str());
         }
-      std::printf("[measured] healthy hour %g m/s seed %llu: %d raised; gated revolutions %llu; max |t|/crit "
-                  "model %.2f mean %.2f\n",
-                  wind, static_cast<unsigned long long>(seed), raised,
-                  static_cast<unsigned long long>(r.gated_revolutions), r.max_ratio[kModelChannel],
-                  r.max_ratio[kMeanChannel]);
+      std::printf(
+          "[measured] healthy hour %g m/s seed %llu: %d raised; gated revolutions %llu; max |t|/crit "
+          "model %.2f mean %.2f\n",
+          wind, static_cast<unsigned long long>(seed), raised,
+          static_cast<unsigned long long>(r.gated_revolutions), r.max_ratio[kModelChannel],
+          r.max_ratio[kMeanChannel]);
       EXPECT_EQ(raised, 0) << wind << " " << seed;
     }
 }
@@ -533,7 +555,8 @@ TEST(SteepSurfaceGate, ClosesOnlyWhereTheLoadTableIsSteepInPitch) {
   for (double lambda : {6.5, 7.5, 8.1, 9.0})
     for (double pitch = -2.0; pitch <= 2.0; pitch += 0.1)
       EXPECT_LT(shipped.model_sensitivity(lambda, pitch), 0.25) << lambda << " " << pitch;
-  for (double pitch = 2.0; pitch <= 10.0; pitch += 0.5) EXPECT_LT(shipped.model_sensitivity(5.5, pitch), 0.25) << pitch;
+  for (double pitch = 2.0; pitch <= 10.0; pitch += 0.5)
+    EXPECT_LT(shipped.model_sensitivity(5.5, pitch), 0.25) << pitch;
 }
 
 }  // namespace

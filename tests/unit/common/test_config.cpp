@@ -30,7 +30,8 @@ TEST(YamlConfig, DefaultsApplyWhenKeysAreAbsent) {
 
 TEST(YamlConfig, RelativePathsAreTakenBesideTheFile) {
   // GIVEN a file naming one relative and one absolute file
-  const std::string path = write_yaml("p.yaml", "turbine_file: ../turbine/t.yaml\nstate_file: /var/lib/x.yaml\n");
+  const std::string path =
+      write_yaml("p.yaml", "turbine_file: ../turbine/t.yaml\nstate_file: /var/lib/x.yaml\n");
   const auto cfg = YamlSection::load_file(path);
   const std::string dir = std::filesystem::path(path).parent_path().string();
   // THEN the relative one is beside the file, the absolute one as written, an absent one the fallback

@@ -156,8 +156,8 @@ TEST(Jsonl, FaultEventRoundTrip) {
   std::string line;
   std::getline(in, line);
   const auto j = nlohmann::json::parse(line);
-  for (const char* key : {"t", "turbine_id", "source", "component", "fault", "state", "severity", "statistic",
-                          "detail"})
+  for (const char* key :
+       {"t", "turbine_id", "source", "component", "fault", "state", "severity", "statistic", "detail"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["state"], "raised");
   const FaultEvent back = fault_event_from_json(j);

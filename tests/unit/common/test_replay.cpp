@@ -35,23 +35,23 @@ TEST(Replay, DrivesEachTurbineInOrderAndWritesTheContractFiles) {
   std::map<std::string, int> seen;
   int gaps = 0;
   // WHEN replayed through a process function that rejects NaN pitch and emits one estimate per sample
-  const auto stats = run_replay(o, {"pitch_mean"}, [&](const std::string& id, const FrameSample& s, bool gap,
-                                                       ReplaySink& sink) {
-    ++seen[id];
-    gaps += gap;
-    if (!std::isfinite(s.pitch[0])) return false;
-    sink.estimate(s.t, id, {format_number(s.pitch[0])});
-    if (id == "WT02" && s.sequence == 7) {
-      FaultEvent e;
-      e.t = s.t;
-      e.turbine_id = id;
-      e.source = "test";
-      e.component = "pitch_sensor_1";
-      e.fault = "sensor_bias";
-      sink.event(e);
-    }
-    return true;
-  });
+  const auto stats = run_replay(o, {"pitch_mean"},
+                                [&](const std::string& id, const FrameSample& s, bool gap, ReplaySink& sink) {
+                                  ++seen[id];
+                                  gaps += gap;
+                                  if (!std::isfinite(s.pitch[0])) return false;
+                                  sink.estimate(s.t, id, {format_number(s.pitch[0])});
+                                  if (id == "WT02" && s.sequence == 7) {
+                                    FaultEvent e;
+                                    e.t = s.t;
+                                    e.turbine_id = id;
+                                    e.source = "test";
+                                    e.component = "pitch_sensor_1";
+                                    e.fault = "sensor_bias";
+                                    sink.event(e);
+                                  }
+                                  return true;
+                                });
   // THEN every sample was seen once, the gap was flagged once, the NaN was counted as rejected
   EXPECT_EQ(seen["WT01"], 8);
   EXPECT_EQ(seen["WT02"], 6);

@@ -94,7 +94,8 @@ TEST(FarmState, TableShowsModesFaultsAndLostServices) {
   st.on_service("WT01", "ice_detect", "ok");
   st.on_service_lost("WT01", "ice_detect");
   EXPECT_EQ(st.active_faults("WT01"), (std::vector<std::string>{"ice_detect service_lost"}));
-  EXPECT_EQ(st.active_faults("WT02"), (std::vector<std::string>{"pitch_actuator_3 hydraulic_leakage (critical)"}));
+  EXPECT_EQ(st.active_faults("WT02"),
+            (std::vector<std::string>{"pitch_actuator_3 hydraulic_leakage (critical)"}));
   const std::string table = st.render();
   EXPECT_NE(table.find("safe_stop"), std::string::npos) << table;
   EXPECT_NE(table.find("lidar_model"), std::string::npos) << table;
@@ -145,9 +146,12 @@ TEST(FaultReportTable, MatchesInjectedFaultsWithDetectionsAndReactions) {
   EXPECT_EQ(injected[2].component, "");
   FaultEvent e = fault("WT02", "pitch_actuator_3", "hydraulic_leakage", 127.0);
   e.t_detected = 126.5;
-  std::vector<HistoryRow> history = {{1000.0, "fault", "WT02", to_json(e)},
-                                     {1000.2, "config", "WT02", {{"mode", "safe_stop"}, {"ipc_source", "strain_gauge"},
-                                                                 {"ice_mode", "normal"}}}};
+  std::vector<HistoryRow> history = {
+      {1000.0, "fault", "WT02", to_json(e)},
+      {1000.2,
+       "config",
+       "WT02",
+       {{"mode", "safe_stop"}, {"ipc_source", "strain_gauge"}, {"ice_mode", "normal"}}}};
   // WHEN matched
   const auto rows = match(injected, history);
   // THEN the leak is detected with its class, 6.5 s after onset, and the arbiter's safe stop is its reaction
@@ -183,8 +187,10 @@ TEST(FaultReportTable, ShowsAReclassificationAndCountsItApart) {
   EXPECT_DOUBLE_EQ(rows[0].delay, 2.0);
   const std::string table = render_report(rows, history);
   EXPECT_NE(table.find("pump_wear (!) > hydraulic_leakage"), std::string::npos) << table;
-  EXPECT_NE(table.find("0 of 1 covered faults detected with the right class first, 1 more after a re-classification"),
-            std::string::npos)
+  EXPECT_NE(
+      table.find(
+          "0 of 1 covered faults detected with the right class first, 1 more after a re-classification"),
+      std::string::npos)
       << table;
 }
 

@@ -1,4 +1,5 @@
-// ice_detect tests: the estimator of Stotsky & Egardt 2013 against known inertia, on the two-mass plant, and the detector.
+// ice_detect tests: the estimator of Stotsky & Egardt 2013 against known inertia, on the two-mass plant, and
+// the detector.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -79,8 +80,8 @@ TEST(InertiaEstimator, HoldsTheEstimateWithoutTransients) {
 }
 
 TEST(InertiaEstimator, AStepInCpRecalibratesAndRestartsTheRegression) {
-  // GIVEN the one-mass model with gusts and a power model 1/0.975 too high, whose rotor loses 5 % of its Cp at
-  // 500 s (the generator torque follows, as a speed controller would)
+  // GIVEN the one-mass model with gusts and a power model 1/0.975 too high, whose rotor loses 5 % of its Cp
+  // at 500 s (the generator torque follows, as a speed controller would)
   const double J = 6484.0, dt = 0.01;
   InertiaEstimator est(one_mass(EstimatorConfig{}.power_window));
   double omega = 150.0;
@@ -89,7 +90,8 @@ TEST(InertiaEstimator, AStepInCpRecalibratesAndRestartsTheRegression) {
     const double t = k * dt;
     const double cp = t < 500.0 ? 1.0 : 0.95;
     const double tg = 30000.0 * cp;
-    const double model_power = omega * (30000.0 + 3000.0 * std::sin(0.3 * t) + 1500.0 * std::sin(1.1 * t + 1.0)) / 0.975;
+    const double model_power =
+        omega * (30000.0 + 3000.0 * std::sin(0.3 * t) + 1500.0 * std::sin(1.1 * t + 1.0)) / 0.975;
     est.update(omega, model_power, tg);
     if (k == 50000) estimates_at_step = est.estimates();
     // THEN within two minutes of the step it is seen once, as a 5 % loss ...
@@ -215,8 +217,8 @@ plant::FaultSpec shedding(double fraction, double start) {
 std::string describe(const PlantRun& r) {
   std::string out;
   for (const auto& e : r.events)
-    out += std::to_string(static_cast<int>(e.t)) + " s " + e.fault + (e.raised ? " raised " : " cleared ") + e.severity +
-           ": " + e.detail + "\n";
+    out += std::to_string(static_cast<int>(e.t)) + " s " + e.fault + (e.raised ? " raised " : " cleared ") +
+           e.severity + ": " + e.detail + "\n";
   return out;
 }
 
@@ -265,7 +267,8 @@ TEST(IceDetector, FastAccretionDoesNotOvershootIntoCritical) {
     const auto r = run_plant(10.0, 1200, true, {f}, 0.0, seed);
     // THEN the inertia never reads more than 5 % above the truth, and no critical is raised
     EXPECT_LT(r.max_over, 0.05) << seed;
-    for (const auto& e : r.events) EXPECT_NE(e.severity, "critical") << seed << " at " << e.t << ": " << e.detail;
+    for (const auto& e : r.events)
+      EXPECT_NE(e.severity, "critical") << seed << " at " << e.t << ": " << e.detail;
   }
 }
 
@@ -383,11 +386,13 @@ TEST(AeroPowerInput, AveragesTheAnemometerAroundEachSampleAndLosesNone) {
 }
 
 TEST(IceDetector, ConfigRejectsUnknownKeysAndBadRanges) {
-  EXPECT_THROW(load_detector_config(YamlSection(YAML::Load("windw: 60"), "x.yaml"), TurbineParams{}), ConfigError);
+  EXPECT_THROW(load_detector_config(YamlSection(YAML::Load("windw: 60"), "x.yaml"), TurbineParams{}),
+               ConfigError);
   EXPECT_THROW(load_detector_config(YamlSection(YAML::Load("fault_mass: 10"), "x.yaml"), TurbineParams{}),
                ConfigError);  // below warning_mass
-  EXPECT_EQ(load_detector_config(YamlSection(YAML::Load("window: 90"), "x.yaml"), TurbineParams{}).estimator.window,
-            90.0);
+  EXPECT_EQ(
+      load_detector_config(YamlSection(YAML::Load("window: 90"), "x.yaml"), TurbineParams{}).estimator.window,
+      90.0);
 }
 
 }  // namespace

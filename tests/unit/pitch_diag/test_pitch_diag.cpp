@@ -302,7 +302,8 @@ TEST(PitchDiagnoser, APointPastThePumpWearSignatureIsTheLeak) {
   // to the full leak at 50 s; 0.2 deg noise
   const auto& h = table1("none");
   const auto& hl = table1("hydraulic_leakage");
-  const Signature overshoot{"", h.omega_n + 0.6 * (hl.omega_n - h.omega_n), h.zeta + 0.6 * (hl.zeta - h.zeta)};
+  const Signature overshoot{"", h.omega_n + 0.6 * (hl.omega_n - h.omega_n),
+                            h.zeta + 0.6 * (hl.zeta - h.zeta)};
   auto trajectory = [&](double t, int b) { return b != 2 || t < 40.0 ? h : t < 50.0 ? overshoot : hl; };
   Rig rig(PitchDiagConfig{}, 0.2, 43);
   rig.run(60.0, trajectory);

@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "process.hpp"
@@ -63,7 +63,8 @@ TEST(PowerCurve, BelowRatedTracksNearOptimalCp) {
 TEST(Aero, CpMaximumAndThrustFromMomentumTheory) {
   double best = 0.0, best_lambda = 0.0;
   for (double l = 2; l < 14; l += 0.01)
-    if (AeroModel::power_coefficient(l, 0.0) > best) best = AeroModel::power_coefficient(l, 0.0), best_lambda = l;
+    if (AeroModel::power_coefficient(l, 0.0) > best)
+      best = AeroModel::power_coefficient(l, 0.0), best_lambda = l;
   // Heier/Slootweg's published optimum: Cp 0.48 at lambda 8.1.
   EXPECT_NEAR(best, 0.48, 0.005);
   EXPECT_NEAR(best_lambda, 8.1, 0.15);
@@ -77,17 +78,18 @@ TEST(Aero, CpMaximumAndThrustFromMomentumTheory) {
 }
 
 TEST(Aero, CpIsSmoothBelowFinePitchWhereTheHeierFitIsSingular) {
-  // Heier's 0.035 / (beta^3 + 1) is singular at beta = -1 deg; IPC takes blades there below fine pitch. Cp and
-  // thrust must change smoothly over -2..2 deg (a 0.01 deg step moves Cp by under 0.005; the singular fit jumped
-  // by 0.4) and, around and above the optimal tip-speed ratio, the load must rise towards stall (more thrust at
-  // -1 deg than at fine pitch).
+  // Heier's 0.035 / (beta^3 + 1) is singular at beta = -1 deg; IPC takes blades there below fine pitch. Cp
+  // and thrust must change smoothly over -2..2 deg (a 0.01 deg step moves Cp by under 0.005; the singular fit
+  // jumped by 0.4) and, around and above the optimal tip-speed ratio, the load must rise towards stall (more
+  // thrust at -1 deg than at fine pitch).
   for (double lambda = 6.0; lambda <= 12.0; lambda += 1.0) {
     for (double beta = -2.0; beta < 2.0; beta += 0.01) {
       const double step = std::fabs(AeroModel::power_coefficient(lambda, beta + 0.01) -
                                     AeroModel::power_coefficient(lambda, beta));
       ASSERT_LT(step, 5e-3) << "lambda " << lambda << " beta " << beta;
     }
-    EXPECT_GT(AeroModel::thrust_coefficient(lambda, -1.0), AeroModel::thrust_coefficient(lambda, 0.0)) << lambda;
+    EXPECT_GT(AeroModel::thrust_coefficient(lambda, -1.0), AeroModel::thrust_coefficient(lambda, 0.0))
+        << lambda;
   }
 }
 
@@ -100,7 +102,8 @@ std::pair<double, double> fit_second_order(const std::vector<double>& y, double 
       const double wd = w * std::sqrt(1 - z * z);
       for (std::size_t k = 0; k < y.size(); k += 4) {
         const double t = k * h;
-        const double ya = 1 - std::exp(-z * w * t) * (std::cos(wd * t) + z / std::sqrt(1 - z * z) * std::sin(wd * t));
+        const double ya =
+            1 - std::exp(-z * w * t) * (std::cos(wd * t) + z / std::sqrt(1 - z * z) * std::sin(wd * t));
         sse += (y[k] - ya) * (y[k] - ya);
       }
       if (sse < best) best = sse, bw = w, bz = z;
@@ -139,7 +142,8 @@ TEST_P(PitchStep, StepResponseMatchesOmegaNAndZetaWithinTwoPercent) {
 
 // Wu & Li Table 1: healthy and the three faults.
 INSTANTIATE_TEST_SUITE_P(Table1, PitchStep,
-                         ::testing::Values(ActuatorCase{"healthy", 11.11, 0.6}, ActuatorCase{"pump_wear", 7.27, 0.75},
+                         ::testing::Values(ActuatorCase{"healthy", 11.11, 0.6},
+                                           ActuatorCase{"pump_wear", 7.27, 0.75},
                                            ActuatorCase{"hydraulic_leakage", 3.42, 0.9},
                                            ActuatorCase{"high_air_content", 5.73, 0.45}),
                          [](const auto& i) { return std::string(i.param.name); });
@@ -179,7 +183,7 @@ TEST(BladeLoad, FirstHarmonicNearZeroWithoutShearAndGrowsWithShear) {
     for (int k = 0; k < 2000; ++k) sim.step(no_ipc);
     a1.push_back(sim.truth().a1[0]);
   }
-  const double mean_moment = 6.6e6;  // at 12 m/s
+  const double mean_moment = 6.6e6;               // at 12 m/s
   EXPECT_LT(a1[0], 1e-3 * mean_moment) << a1[0];  // uniform wind: no 1P
   // v(h)^2 = v^2 (h/H)^(2 alpha): for small alpha the 1P amplitude is nearly proportional to alpha.
   for (int i = 1; i < 4; ++i) EXPECT_GT(a1[i], a1[i - 1]) << i;
@@ -252,7 +256,8 @@ TEST_P(SensorFault, AppearsExactlyAsSpecifiedAndOnTime) {
   int checked = 0;
   for (int k = 0; k < 3000; ++k) {
     const auto& s = sim.step();
-    const double truth = std::string(c.target) == "rotor_speed" ? sim.truth().rotor_speed : sim.truth().pitch[1];
+    const double truth =
+        std::string(c.target) == "rotor_speed" ? sim.truth().rotor_speed : sim.truth().pitch[1];
     const double measured = std::string(c.target) == "rotor_speed" ? s.rotor_speed : s.pitch[1];
     EXPECT_EQ(s.t, k * 0.01);  // stamped from the sample index: no accumulated rounding
     const bool active = s.t >= 10.0 && s.t < 20.0;
@@ -273,7 +278,8 @@ INSTANTIATE_TEST_SUITE_P(
         FaultCase{"bias", "rotor_speed", "bias", 0.05, 1, 0, [](double v, double) { return v + 0.05; }},
         FaultCase{"gain", "pitch_2", "gain", 0, 1.2, 0, [](double v, double) { return 1.2 * v; }},
         FaultCase{"offset", "pitch_2", "offset", -1.5, 1, 0, [](double v, double) { return v - 1.5; }},
-        FaultCase{"drift", "rotor_speed", "drift", 0, 1, 0.01, [](double v, double s) { return v + 0.01 * s; }},
+        FaultCase{"drift", "rotor_speed", "drift", 0, 1, 0.01,
+                  [](double v, double s) { return v + 0.01 * s; }},
         FaultCase{"stuck", "pitch_2", "stuck", 5.0, 1, 0, [](double, double) { return 5.0; }},
         FaultCase{"intermittent", "rotor_speed", "intermittent", 0.0, 1.3, 0,
                   [](double v, double s) { return std::fmod(s, 2.0) < 1.0 ? 1.3 * v : v; }},
@@ -344,10 +350,10 @@ TEST(Ice, AccretionRaisesInertiaAndSheddingDropsItAtOnce) {
     mass[k] = sim.truth().ice_mass;
     inertia[k] = sim.truth().inertia;
   }
-  EXPECT_DOUBLE_EQ(mass[400], 0.0);                    // t = 4 s: before
-  EXPECT_NEAR(mass[1000], 1000.0, 1.0);                 // halfway up the ramp
-  EXPECT_NEAR(mass[2500], 2000.0, 1e-6);                // after the ramp
-  EXPECT_NEAR(mass[3001], 1000.0, 1e-6);                // half shed at t = 30 s, at once
+  EXPECT_DOUBLE_EQ(mass[400], 0.0);       // t = 4 s: before
+  EXPECT_NEAR(mass[1000], 1000.0, 1.0);   // halfway up the ramp
+  EXPECT_NEAR(mass[2500], 2000.0, 1e-6);  // after the ramp
+  EXPECT_NEAR(mass[3001], 1000.0, 1e-6);  // half shed at t = 30 s, at once
   EXPECT_NEAR(inertia[2500] - inertia[400], 2000.0 * p.ice_radius * p.ice_radius / (95.0 * 95.0), 1e-6);
 }
 
@@ -394,14 +400,14 @@ TEST(Scenario, BadInputNamesTheKeyAndTheChoices) {
   expect_error("duration: -5\nturbines:\n  - {id: WT01, wind: {mean: 10}}\n", "duration", "outside");
   expect_error(head + "faults:\n  - {turbine: WT01, target: nacelle, type: gain, gain: 2, start: 1}\n",
                "faults[0].target", "pitch_actuator_1..3");
-  expect_error(head + "faults:\n  - {turbine: WT01, target: pitch_1, type: melt, start: 1}\n", "faults[0].type",
-               "stuck");
-  expect_error(head + "faults:\n  - {turbine: WT09, target: pitch_1, type: stuck, start: 1}\n", "faults[0].turbine",
-               "WT01");
-  expect_error(head + "faults:\n  - {turbine: WT01, target: pitch_1, type: bias, start: 1}\n", "faults[0].value",
-               "needs");
-  expect_error("duration: 10\nturbines:\n  - {id: WT01, wind: {mean: 10, gust: 3}}\n", "turbines[0].wind.gust",
-               "valid keys");
+  expect_error(head + "faults:\n  - {turbine: WT01, target: pitch_1, type: melt, start: 1}\n",
+               "faults[0].type", "stuck");
+  expect_error(head + "faults:\n  - {turbine: WT09, target: pitch_1, type: stuck, start: 1}\n",
+               "faults[0].turbine", "WT01");
+  expect_error(head + "faults:\n  - {turbine: WT01, target: pitch_1, type: bias, start: 1}\n",
+               "faults[0].value", "needs");
+  expect_error("duration: 10\nturbines:\n  - {id: WT01, wind: {mean: 10, gust: 3}}\n",
+               "turbines[0].wind.gust", "valid keys");
 }
 
 TEST(Scenario, EveryShippedScenarioLoads) {
