@@ -90,7 +90,6 @@ void install_signal_handlers() {
 }
 
 bool shutdown_requested() { return g_shutdown.load(); }
-void request_shutdown() { g_shutdown = true; }
 
 bool sleep_unless_shutdown(std::chrono::nanoseconds d) {
   const auto end = std::chrono::steady_clock::now() + d;

@@ -40,7 +40,6 @@ void setup_logging(const std::string& level, const std::string& name);
 /// SIGINT and SIGTERM request a graceful shutdown (entities deleted, logs flushed, no shm leftovers).
 void install_signal_handlers();
 bool shutdown_requested();
-void request_shutdown();
 /// Sleeps up to `d`, returning early (false) when shutdown is requested.
 bool sleep_unless_shutdown(std::chrono::nanoseconds d);
 

@@ -47,6 +47,9 @@ void HealthReporter::tick(double wall_now, bool force) {
     h.samples_rejected(c.samples_rejected);
     h.sequence_gaps(c.sequence_gaps);
     h.lag(c.lag);
+    h.deadlines_missed(streams_.deadlines_missed);
+    h.samples_lost(streams_.samples_lost);
+    h.incompatible_qos(streams_.incompatible_qos);
     h.detail(detail_);
     if (!writer_.write(h)) spdlog::warn("health report for {} not written (DDS resource limits?)", turbine);
   }

@@ -24,6 +24,25 @@ class HealthReporter {
   void set_lag(const std::string& turbine, double seconds) { entry(turbine).lag = seconds; }
   void set_state(windfdi::ServiceState state, const std::string& detail = "");
 
+  /// What DDS reports of the instance's streams since start (every turbine's report carries them): a missed
+  /// deadline is an input stream gone silent, lost samples an overloaded reader, incompatible QoS a peer
+  /// that will never be heard.
+  struct StreamStatus {
+    uint64_t deadlines_missed = 0, samples_lost = 0, incompatible_qos = 0;
+  };
+  void set_streams(const StreamStatus& s) { streams_ = s; }
+  void add_streams(const bus::EndpointStatus& e) {
+    streams_.deadlines_missed += e.deadline_missed.load();
+    streams_.samples_lost += e.samples_lost.load();
+    streams_.incompatible_qos += e.incompatible_qos.load();
+  }
+  /// Sets the stream status to the sum over these readers and writers.
+  template <class... Endpoints>
+  void set_streams_of(const Endpoints&... endpoints) {
+    streams_ = {};
+    (add_streams(endpoints.status()), ...);
+  }
+
   /// Publishes when a second has passed since the last report (or `force`).
   void tick(double wall_now, bool force = false);
   uint64_t total_rejected() const;
@@ -40,6 +59,7 @@ class HealthReporter {
   std::map<std::string, Counters> counters_;
   windfdi::ServiceState state_ = windfdi::SERVICE_STARTING;
   std::string detail_;
+  StreamStatus streams_;
   double last_report_ = -1e300;
 };
 

@@ -69,12 +69,11 @@ void DiagnosticNode::publish(const FaultEvent& e) {
               e.raised ? "RAISED" : "cleared", e.severity, e.statistic, e.size, e.detail);
 }
 
-void DiagnosticNode::run(const SampleFn& process, const std::function<void(double)>& periodic) {
+void DiagnosticNode::run(const SampleFn& process) {
   health_.set_state(windfdi::SERVICE_OK);
   std::vector<windfdi::TurbineFrame> frames;
   std::vector<bus::SampleMeta> meta;
   std::vector<windfdi::LidarFrame> lidar;
-  double last_periodic = 0.0;
   while (!shutdown_requested()) {
     wakeup_.wait_for(std::chrono::milliseconds(100));
     take_context();
@@ -101,10 +100,8 @@ void DiagnosticNode::run(const SampleFn& process, const std::function<void(doubl
       }
       health_.set_lag(id, std::max(0.0, now - meta[i].source_time));
     }
-    if (now - last_periodic >= 0.1) {
-      last_periodic = now;
-      if (periodic) periodic(now);
-    }
+    health_.set_streams_of(frames_, faults_, other_faults_, configurations_);
+    if (lidar_) health_.add_streams(lidar_->status());
     health_.tick(now);
   }
   health_.set_state(windfdi::SERVICE_STOPPING);

@@ -36,9 +36,9 @@ class DiagnosticNode {
   /// Also follow wt/lidar (must be called before run()).
   void subscribe_lidar(LidarFn on_lidar);
 
-  /// Runs until SIGINT/SIGTERM: every sample goes to `process` in order; `periodic(wall_now)` runs at
-  /// least every 100 ms (estimate publishing at the service's rate, health).
-  void run(const SampleFn& process, const std::function<void(double)>& periodic = {});
+  /// Runs until SIGINT/SIGTERM: every sample goes to `process` in order. Health is published once a
+  /// second, with what DDS reports of the streams (deadlines missed, samples lost, incompatible QoS).
+  void run(const SampleFn& process);
 
   /// What other services and the arbiter say about a turbine's inputs (empty context before anything).
   const InputContext& context(const std::string& turbine_id);

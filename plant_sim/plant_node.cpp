@@ -236,6 +236,7 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
     }
     if (dds) {
       dds->health.set_state(windfdi::SERVICE_OK);
+      dds->health.set_streams_of(dds->frames, dds->lidar, dds->configs, dds->bias);
       dds->health.tick(now);
     }
     if (o.progress_period > 0 && now - last_progress >= o.progress_period) {

@@ -109,12 +109,6 @@ class Writer : private eprosima::fastdds::dds::DataWriterListener {
     return ok;
   }
 
-  /// Disposes the instance of `key_holder` (e.g. a turbine leaving the farm).
-  bool dispose(const T& key_holder) {
-    return writer_->dispose(const_cast<T*>(&key_holder), eprosima::fastdds::dds::HANDLE_NIL) ==
-           ReturnCode_t::RETCODE_OK;
-  }
-
   /// Asserts liveliness (MANUAL_BY_TOPIC writers): a node's loop calls it so a hung loop looks dead.
   void assert_liveliness() { writer_->assert_liveliness(); }
 

@@ -153,6 +153,7 @@ void ArbiterNode::run() {
     handle_inputs(now);
     publish_configurations(now);
     config_out_.assert_liveliness();
+    health_.set_streams_of(faults_, health_in_, inertia_, pitch_, acks_, config_out_);
     health_.tick(now);
   }
   health_.set_state(windfdi::SERVICE_STOPPING);

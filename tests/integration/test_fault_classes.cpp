@@ -305,6 +305,28 @@ TEST(HealthyFarm, EveryServiceOnTheHealthyScenarioRaisesNothing) {
   }
 }
 
+TEST(SilentPlant, AServiceReportsItsInputStreamsMissedDeadlinesInItsHealth) {
+  // GIVEN windfdi-ice-detect diagnosing a turbine, and a peer printing every ServiceHealth
+  Farm farm(33);
+  farm.service("windfdi-ice-detect");
+  auto& health = farm.start({bin("windfdi-test-peer"), "health", "--timeout", "120"}, "health");
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  // WHEN the plant publishes 30 s of frames (3 s at 10x) and then falls silent
+  auto& plant = farm.start({bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/healthy.yaml", "--rate",
+                            "10", "--duration", "30", "--progress", "0"},
+                           "plant");
+  ASSERT_EQ(plant.wait(std::chrono::seconds(60)), 0) << plant.stderr_text();
+  // THEN the service's health says it had samples and that its frame stream missed its 1 s deadline
+  const auto reported = [&] {
+    for (const auto& j : json_lines(health.stdout_text()))
+      if (j.value("service", "") == "ice_detect" && j.value("samples_in", 0) > 0 &&
+          j.value("deadlines_missed", 0) > 0)
+        return true;
+    return false;
+  };
+  EXPECT_TRUE(wait_until(reported, std::chrono::seconds(15))) << health.stdout_text() << farm.logs();
+}
+
 TEST(KilledService, ARealDiagnosticServiceKilledBecomesServiceLostAndTheConservativeSetting) {
   // GIVEN windfdi-pitch-diag diagnosing a healthy turbine
   Farm farm(32);

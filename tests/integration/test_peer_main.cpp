@@ -191,6 +191,32 @@ int configs(const CommonOptions& common, double timeout) {
   return 0;
 }
 
+// Prints every ServiceHealth sample as a JSON line until `timeout` s.
+int health(const CommonOptions& common, double timeout) {
+  bus::Participant participant(participant_options(common, "windfdi-test-peer-health"));
+  bus::Wakeup wakeup;
+  bus::Reader<windfdi::ServiceHealth> reader(participant, common.turbines, &wakeup);
+  std::cout << "{\"ready\":true}" << std::endl;
+  const double start = wall_time();
+  std::vector<windfdi::ServiceHealth> got;
+  while (!shutdown_requested() && wall_time() - start < timeout) {
+    wakeup.wait_for(std::chrono::milliseconds(100));
+    got.clear();
+    reader.take(got);
+    for (const auto& h : got)
+      std::cout << nlohmann::json{{"turbine_id", h.turbine_id()},
+                                  {"service", h.service()},
+                                  {"state", static_cast<int>(h.state())},
+                                  {"samples_in", h.samples_in()},
+                                  {"deadlines_missed", h.deadlines_missed()},
+                                  {"samples_lost", h.samples_lost()},
+                                  {"incompatible_qos", h.incompatible_qos()}}
+                       .dump()
+                << std::endl;
+  }
+  return 0;
+}
+
 // Publishes a safe-stop ControlConfiguration for one turbine as `arbiter_id` with a high ownership strength,
 // every 0.5 s for `hold` s (the security tests run it with roles that may or may not publish configurations).
 int control(const CommonOptions& common, const std::string& turbine, const std::string& arbiter_id,
@@ -288,8 +314,9 @@ int main(int argc, char** argv) {
   int blocks = 100, block_size = 10, readers = 1;
   double rate = 100.0, timeout = 30.0;
   uint64_t expect = 0;
-  app.add_option("mode", mode, "publish, listen, fault, configs, control, flood or churn")
-      ->check(CLI::IsMember({"publish", "listen", "fault", "configs", "control", "flood", "churn"}));
+  app.add_option("mode", mode, "publish, listen, fault, configs, health, control, flood or churn")
+      ->check(
+          CLI::IsMember({"publish", "listen", "fault", "configs", "health", "control", "flood", "churn"}));
   std::string turbine = "WT01", source = "pitch_diag";
   std::vector<std::string> script;
   double hold = 30.0;
@@ -310,6 +337,7 @@ int main(int argc, char** argv) {
     if (mode == "publish") return publish(common, ids, blocks, block_size, readers, rate);
     if (mode == "fault") return fault(common, turbine, source, script, hold);
     if (mode == "configs") return configs(common, timeout);
+    if (mode == "health") return health(common, timeout);
     if (mode == "control") return control(common, turbine, source, hold);
     if (mode == "flood") return flood(common, ids, hold);
     if (mode == "churn") return churn(common, turbine, cycles);
