@@ -135,7 +135,7 @@ INSTANTIATE_TEST_SUITE_P(
             IpcSource::kStrainGauge, IceMode::kStop, kNominal, false, false, kNone, "ice_mode=stop"},
         Row{"ice_shedding", fault("ice_detect", "rotor", "ice_shedding", "warning"), Mode::kNormal,
             IpcSource::kStrainGauge, IceMode::kNormal, kNominal, false, false, kNone, "farm_alarm"}),
-    [](const ::testing::TestParamInfo<Row>& info) { return std::string(info.param.name); });
+    [](const ::testing::TestParamInfo<Row>& row) { return std::string(row.param.name); });
 
 TEST(Decision, BladeSensorFaultWithLidarUnavailableTurnsIpcOff) {
   Arbiter a;

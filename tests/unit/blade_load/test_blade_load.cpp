@@ -206,7 +206,7 @@ PlantRun run_plant(double wind, double ti, double shear, double shear_var, int s
   r.rms_abs_over_mean = r.rms_abs / (st / std::max(n, 1));
   r.adaptations = m.adaptations();
   r.gated_revolutions = m.gated_revolutions();
-  for (int c = 0; c < kChannels; ++c) r.max_ratio[c] = m.max_ratio(c);
+  for (int ch = 0; ch < kChannels; ++ch) r.max_ratio[ch] = m.max_ratio(ch);
   return r;
 }
 

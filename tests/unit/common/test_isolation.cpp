@@ -71,7 +71,7 @@ INSTANTIATE_TEST_SUITE_P(
                 report("blade_load", "blade_moment_sensor_2", "sensor_drift", 12)},
         RowCase{"ice_blade_load", report("ice_detect", "rotor", "ice_accretion", 10),
                 report("blade_load", "blade_moment_sensor_2", "sensor_drift", 12)}),
-    [](const ::testing::TestParamInfo<RowCase>& info) { return std::string(info.param.name); });
+    [](const ::testing::TestParamInfo<RowCase>& row) { return std::string(row.param.name); });
 
 TEST(Isolation, EveryTableRowHasACase) {
   // The parameterised cases above cover each row once; a new row needs a new case.
