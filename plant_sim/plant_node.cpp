@@ -78,15 +78,15 @@ struct TurbineRun {
 
 ControlInput to_input(const windfdi::ControlConfiguration& c) {
   ControlInput in;
-  in.mode = static_cast<OperatingMode>(std::clamp(static_cast<int>(c.mode()), 0, 2));
-  in.ipc_source = static_cast<IpcSource>(std::clamp(static_cast<int>(c.ipc_source()), 0, 2));
+  in.mode = bus::from_idl(c.mode());
+  in.ipc_source = bus::from_idl(c.ipc_source());
   for (int i = 0; i < 3; ++i) {
     const double r = c.pitch_rate_limit()[i];
     in.pitch_rate_limit[i] = std::isfinite(r) && r > 0.0 ? r : 10.0;
   }
   in.use_corrected_generator_speed = c.use_corrected_generator_speed();
   in.inertia = std::isfinite(c.inertia()) && c.inertia() > 0 ? c.inertia() : 0.0;
-  if (c.ice_mode() == windfdi::ICE_STOP) in.mode = OperatingMode::kSafeStop;
+  if (bus::from_idl(c.ice_mode()) == control::IceMode::kStop) in.mode = OperatingMode::kSafeStop;
   return in;
 }
 

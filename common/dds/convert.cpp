@@ -1,6 +1,7 @@
 // Conversions between the IDL topic types and the plain structs the cores use.
 #include "convert.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "names.hpp"
@@ -98,5 +99,37 @@ FaultEvent to_event(const windfdi::FaultReport& r) {
   e.detail = r.detail();
   return e;
 }
+
+static_assert(static_cast<int>(windfdi::MODE_NORMAL) == static_cast<int>(control::OperatingMode::kNormal) &&
+              static_cast<int>(windfdi::MODE_DEGRADED) ==
+                  static_cast<int>(control::OperatingMode::kDegraded) &&
+              static_cast<int>(windfdi::MODE_SAFE_STOP) ==
+                  static_cast<int>(control::OperatingMode::kSafeStop));
+static_assert(static_cast<int>(windfdi::IPC_STRAIN_GAUGE) ==
+                  static_cast<int>(control::IpcSource::kStrainGauge) &&
+              static_cast<int>(windfdi::IPC_LIDAR_MODEL) ==
+                  static_cast<int>(control::IpcSource::kLidarModel) &&
+              static_cast<int>(windfdi::IPC_OFF) == static_cast<int>(control::IpcSource::kOff));
+static_assert(static_cast<int>(windfdi::ICE_NORMAL) == static_cast<int>(control::IceMode::kNormal) &&
+              static_cast<int>(windfdi::ICE_ADAPTED) == static_cast<int>(control::IceMode::kAdapted) &&
+              static_cast<int>(windfdi::ICE_STOP) == static_cast<int>(control::IceMode::kStop));
+
+namespace {
+// The enums are ordered by how conservative they are: a value beyond the last (a newer peer) reads as the
+// last.
+template <class To, class From>
+To clamped(From v, To last) {
+  return static_cast<To>(std::clamp(static_cast<int>(v), 0, static_cast<int>(last)));
+}
+}  // namespace
+
+windfdi::OperatingMode to_idl(control::OperatingMode m) { return static_cast<windfdi::OperatingMode>(m); }
+windfdi::IpcSource to_idl(control::IpcSource s) { return static_cast<windfdi::IpcSource>(s); }
+windfdi::IceMode to_idl(control::IceMode m) { return static_cast<windfdi::IceMode>(m); }
+control::OperatingMode from_idl(windfdi::OperatingMode m) {
+  return clamped(m, control::OperatingMode::kSafeStop);
+}
+control::IpcSource from_idl(windfdi::IpcSource s) { return clamped(s, control::IpcSource::kOff); }
+control::IceMode from_idl(windfdi::IceMode m) { return clamped(m, control::IceMode::kStop); }
 
 }  // namespace windfdi::bus

@@ -9,15 +9,15 @@
 #include <string>
 #include <vector>
 
+#include "control_modes.hpp"
 #include "frame_sample.hpp"
 #include "scenario.hpp"
 #include "turbine_params.hpp"
 
 namespace windfdi::plant {
 
-// Ordered as the IDL enums (and the arbiter's), so the node converts by value.
-enum class OperatingMode { kNormal = 0, kDegraded = 1, kSafeStop = 2 };
-enum class IpcSource { kStrainGauge = 0, kLidarModel = 1, kOff = 2 };
+using control::IpcSource;  // common/control_modes.hpp, shared with the arbiter
+using control::OperatingMode;
 
 /// One blade's hydraulic pitch actuator, Witczak et al. eq 34 with the -omega_n^2 beta term it lacks:
 /// beta'' = -2 zeta omega_n beta' - omega_n^2 (beta - beta_ref), rate and angle limited, integrated by RK4.

@@ -16,13 +16,13 @@ windfdi::ControlConfiguration to_idl(const Configuration& c, const std::string& 
   out.turbine_id(turbine_id);
   out.revision(revision);
   out.arbiter_id(arbiter_id);
-  out.mode(static_cast<windfdi::OperatingMode>(static_cast<int>(c.mode)));
-  out.ipc_source(static_cast<windfdi::IpcSource>(static_cast<int>(c.ipc_source)));
+  out.mode(bus::to_idl(c.mode));
+  out.ipc_source(bus::to_idl(c.ipc_source));
   out.use_corrected_rotor_speed(c.use_corrected_rotor_speed);
   out.use_corrected_generator_speed(c.use_corrected_generator_speed);
   out.use_corrected_pitch(c.use_corrected_pitch);
   out.pitch_rate_limit(c.pitch_rate_limit);
-  out.ice_mode(static_cast<windfdi::IceMode>(static_cast<int>(c.ice_mode)));
+  out.ice_mode(bus::to_idl(c.ice_mode));
   out.inertia(c.inertia);
   for (const auto& r : c.reasons) {
     if (out.reasons().size() >= 32) break;  // IDL bound; the most important are first after sorting

@@ -16,9 +16,13 @@
 namespace windfdi::farm {
 
 namespace {
-const char* kModes[] = {"normal", "degraded", "safe_stop"};
-const char* kIpc[] = {"strain_gauge", "lidar_model", "off"};
-const char* kIce[] = {"normal", "adapted", "stop"};
+// The canonical name of a control setting (common/control_modes.hpp); a value beyond the enum shows as such.
+template <class IdlEnum>
+std::string setting_name(IdlEnum v, IdlEnum last) {
+  return static_cast<int>(v) >= 0 && static_cast<int>(v) <= static_cast<int>(last)
+             ? control::to_string(bus::from_idl(v))
+             : "unknown";
+}
 const char* kServiceStates[] = {"starting", "ok", "degraded", "stopping"};
 template <std::size_t N>
 std::string pick(const char* (&names)[N], int i) {
@@ -33,9 +37,9 @@ ConfigRecord to_record(const windfdi::ControlConfiguration& c, double received_a
   r.turbine_id = c.turbine_id();
   r.arbiter_id = c.arbiter_id();
   r.revision = c.revision();
-  r.mode = pick(kModes, c.mode());
-  r.ipc_source = pick(kIpc, c.ipc_source());
-  r.ice_mode = pick(kIce, c.ice_mode());
+  r.mode = setting_name(c.mode(), windfdi::MODE_SAFE_STOP);
+  r.ipc_source = setting_name(c.ipc_source(), windfdi::IPC_OFF);
+  r.ice_mode = setting_name(c.ice_mode(), windfdi::ICE_STOP);
   for (const auto& reason : c.reasons())
     r.reasons.push_back(reason.source() + "/" + reason.component() + "/" +
                         bus::fault_class_name(reason.fault_class()) + ": " + reason.action());

@@ -219,8 +219,8 @@ int health(const CommonOptions& common, double timeout) {
 
 // Publishes a safe-stop ControlConfiguration for one turbine as `arbiter_id` with a high ownership strength,
 // every 0.5 s for `hold` s (the security tests run it with roles that may or may not publish configurations).
-int control(const CommonOptions& common, const std::string& turbine, const std::string& arbiter_id,
-            double hold) {
+int publish_control(const CommonOptions& common, const std::string& turbine, const std::string& arbiter_id,
+                    double hold) {
   bus::Participant participant(participant_options(common, "windfdi-test-peer-control"));
   bus::Writer<windfdi::ControlConfiguration> writer(
       participant, "control",
@@ -338,7 +338,7 @@ int main(int argc, char** argv) {
     if (mode == "fault") return fault(common, turbine, source, script, hold);
     if (mode == "configs") return configs(common, timeout);
     if (mode == "health") return health(common, timeout);
-    if (mode == "control") return control(common, turbine, source, hold);
+    if (mode == "control") return publish_control(common, turbine, source, hold);
     if (mode == "flood") return flood(common, ids, hold);
     if (mode == "churn") return churn(common, turbine, cycles);
     return listen(common, expect, timeout);

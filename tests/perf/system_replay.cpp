@@ -49,8 +49,8 @@ plant::ControlInput control_input(const Turbine& t, double now) {
   plant::ControlInput in;
   if (!t.have_last) return in;
   const auto& c = t.last;
-  in.mode = static_cast<plant::OperatingMode>(static_cast<int>(c.mode));
-  in.ipc_source = static_cast<plant::IpcSource>(static_cast<int>(c.ipc_source));
+  in.mode = c.mode;  // one definition (common/control_modes.hpp)
+  in.ipc_source = c.ipc_source;
   in.pitch_rate_limit = c.pitch_rate_limit;
   in.use_corrected_generator_speed = c.use_corrected_generator_speed;
   in.inertia = c.inertia;

@@ -10,40 +10,6 @@
 
 namespace windfdi::arbiter {
 
-const char* to_string(Mode m) {
-  switch (m) {
-    case Mode::kNormal:
-      return "normal";
-    case Mode::kDegraded:
-      return "degraded";
-    case Mode::kSafeStop:
-      return "safe_stop";
-  }
-  return "?";
-}
-const char* to_string(IpcSource s) {
-  switch (s) {
-    case IpcSource::kStrainGauge:
-      return "strain_gauge";
-    case IpcSource::kLidarModel:
-      return "lidar_model";
-    case IpcSource::kOff:
-      return "off";
-  }
-  return "?";
-}
-const char* to_string(IceMode m) {
-  switch (m) {
-    case IceMode::kNormal:
-      return "normal";
-    case IceMode::kAdapted:
-      return "adapted";
-    case IceMode::kStop:
-      return "stop";
-  }
-  return "?";
-}
-
 ArbiterConfig load_arbiter_config(const YamlSection& s) {
   s.require_known_keys({"clear_hold", "nominal_pitch_rate", "derated_pitch_rate", "rotor_speed_bias_limit",
                         "generator_speed_bias_limit", "pitch_bias_limit", "has_lidar", "inertia_step",

@@ -9,22 +9,21 @@
 #include <string>
 #include <vector>
 
+#include "control_modes.hpp"
 #include "fault_event.hpp"
 #include "isolation.hpp"
 #include "yaml_config.hpp"
 
 namespace windfdi::arbiter {
 
-// Ordered: a higher value is more conservative, and the most conservative demand wins.
-enum class Mode { kNormal = 0, kDegraded = 1, kSafeStop = 2 };
-enum class IpcSource { kStrainGauge = 0, kLidarModel = 1, kOff = 2 };
-enum class IceMode { kNormal = 0, kAdapted = 1, kStop = 2 };
+// Ordered (common/control_modes.hpp): a higher value is more conservative, and the most conservative demand
+// wins.
+using Mode = control::OperatingMode;
+using control::IceMode;
+using control::IpcSource;
+using control::to_string;
 /// When a cause stops acting: once it has been clear for `clear_hold`, or only after an operator's ack.
 enum class ClearCondition { kWhenClear, kOnAck };
-
-const char* to_string(Mode m);
-const char* to_string(IpcSource s);
-const char* to_string(IceMode m);
 
 struct ArbiterConfig {
   double clear_hold = 30.0;          ///< s a cause must stay clear before its action is withdrawn (0..3600)

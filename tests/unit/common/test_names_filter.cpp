@@ -73,3 +73,22 @@ TEST(Names, BladeIndexOfPerBladeComponentsOnly) {
   EXPECT_EQ(windfdi::blade_index("wt3"), -1);  // a digit that is not a blade suffix
   EXPECT_EQ(windfdi::blade_index(""), -1);
 }
+
+TEST(Convert, ControlSettingsRoundTripAndKeepTheirCanonicalNames) {
+  using control::IceMode;
+  using control::IpcSource;
+  using control::OperatingMode;
+  using control::to_string;
+  for (auto m : {OperatingMode::kNormal, OperatingMode::kDegraded, OperatingMode::kSafeStop})
+    EXPECT_EQ(bus::from_idl(bus::to_idl(m)), m);
+  for (auto s : {IpcSource::kStrainGauge, IpcSource::kLidarModel, IpcSource::kOff})
+    EXPECT_EQ(bus::from_idl(bus::to_idl(s)), s);
+  for (auto i : {IceMode::kNormal, IceMode::kAdapted, IceMode::kStop})
+    EXPECT_EQ(bus::from_idl(bus::to_idl(i)), i);
+  EXPECT_STREQ(to_string(OperatingMode::kSafeStop), "safe_stop");
+  EXPECT_STREQ(to_string(IpcSource::kLidarModel), "lidar_model");
+  EXPECT_STREQ(to_string(IceMode::kAdapted), "adapted");
+  // A value beyond the enum (a newer peer) reads as the most conservative setting
+  EXPECT_EQ(bus::from_idl(static_cast<windfdi::OperatingMode>(7)), OperatingMode::kSafeStop);
+  EXPECT_EQ(bus::from_idl(static_cast<windfdi::IpcSource>(5)), IpcSource::kOff);
+}
