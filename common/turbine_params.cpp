@@ -68,6 +68,18 @@ TurbineParams load_turbine_params_file(const std::string& path) {
   return load_turbine_params(YamlSection::load_file(path));
 }
 
+double AeroModel::optimal_tip_speed_ratio() {
+  static const double best = [] {
+    double lambda_opt = 8.0, cp_max = 0.0;
+    for (int i = 400; i <= 1200; ++i) {
+      const double l = 0.01 * i;
+      if (power_coefficient(l, 0.0) > cp_max) cp_max = power_coefficient(l, 0.0), lambda_opt = l;
+    }
+    return lambda_opt;
+  }();
+  return best;
+}
+
 double AeroModel::power_coefficient(double lambda, double beta) {
   if (lambda <= 0.0) return 0.0;
   // Heier / Slootweg analytic Cp(lambda, beta). The fit is made for beta >= 0: its 0.035 / (beta^3 + 1) is

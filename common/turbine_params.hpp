@@ -59,6 +59,9 @@ class AeroModel {
 
   static double power_coefficient(double lambda, double pitch_deg);
   static double thrust_coefficient(double lambda, double pitch_deg);
+  /// The tip-speed ratio of the largest Cp at zero pitch (about 8.1, Cp 0.48), searched once in steps of
+  /// 0.01.
+  static double optimal_tip_speed_ratio();
   /// Tip-speed ratio omega R / v (0 for v <= 0.1 m/s).
   double tip_speed_ratio(double wind, double rotor_speed) const;
   /// Aerodynamic torque on the rotor (N m); `cp_scale` < 1 for an iced rotor.

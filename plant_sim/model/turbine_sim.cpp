@@ -52,12 +52,7 @@ TurbineSim::TurbineSim(const TurbineParams& params, const TurbineScenario& turbi
       1, static_cast<std::size_t>(std::lround(wind_.lidar_distance / wind_.mean / dt_)));
   const double v = wind_.mean;
   // Start at the operating point of the mean wind.
-  double lambda_opt = 8.0, cp_max = 0.0;
-  for (double l = 4.0; l <= 12.0; l += 0.01)
-    if (AeroModel::power_coefficient(l, 0.0) > cp_max) {
-      cp_max = AeroModel::power_coefficient(l, 0.0);
-      lambda_opt = l;
-    }
+  const double lambda_opt = AeroModel::optimal_tip_speed_ratio();
   const double omega_rated = p_.rated_generator_speed / p_.gear_ratio;
   omega_r_ = std::min(lambda_opt * v / p_.rotor_radius, omega_rated);
   double beta = 0.0;
@@ -198,14 +193,15 @@ void TurbineSim::controller(const ControlInput& in, const FrameSample& m, std::a
   }
   stop_torque_ = -1;
   const bool degraded = in.mode == OperatingMode::kDegraded;
-  const double speed_share = degraded ? 0.9 : 1.0;
+  const double speed_share = degraded ? ctl_.degraded_speed : 1.0;
   const double omega_ref = omega_rated_g * speed_share;
   const double power_share = degraded ? ctl_.degraded_power : 1.0;
   const double torque_max = p_.rated_power * power_share / (p_.generator_efficiency * omega_ref);
   // Region 2: K omega^2 from Cp's maximum, referred to the generator side.
-  static const double cp_max = AeroModel::power_coefficient(8.1, 0.0);
+  static const double lambda_opt = AeroModel::optimal_tip_speed_ratio();
+  static const double cp_max = AeroModel::power_coefficient(lambda_opt, 0.0);
   const double k_opt = 0.5 * p_.air_density * p_.rotor_area() * std::pow(p_.rotor_radius, 3) * cp_max /
-                       std::pow(8.1, 3) / std::pow(p_.gear_ratio, 3);
+                       std::pow(lambda_opt, 3) / std::pow(p_.gear_ratio, 3);
   torque_ref = std::min(k_opt * speed_filtered_ * speed_filtered_, torque_max);
 
   // Region 3: gain-scheduled PI on generator speed; gains scale with the (iced) inertia when adapted.

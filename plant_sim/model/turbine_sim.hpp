@@ -47,6 +47,7 @@ struct ControllerParams {
   double ipc_gain = 2e-7;            ///< deg per (N m * s): integral gain of the 1P (d-q) loop
   double ipc_limit = 3.0;            ///< deg, largest IPC pitch offset
   double degraded_power = 0.7;       ///< share of rated power in degraded mode
+  double degraded_speed = 0.9;       ///< share of rated generator speed in degraded mode
   double stop_torque_time = 10.0;    ///< s to ramp the generator torque to zero in a safe stop
 };
 

@@ -12,51 +12,6 @@
 
 namespace windfdi::ice_detect {
 
-double model_aero_power(const AeroModel& aero, double wind, const FrameSample& s) {
-  // Blade by blade: with individual pitch the blades' Cp differ and Cp is far from linear in pitch.
-  if (!std::isfinite(wind) || wind < 0.0 || wind > 60.0 || !std::isfinite(s.rotor_speed) ||
-      s.rotor_speed < 0.0 || s.rotor_speed > 5.0)
-    return kNaN;
-  double p = 0.0;
-  for (double pitch : s.pitch) {
-    if (!std::isfinite(pitch) || pitch < -5.0 || pitch > 95.0) return kNaN;
-    p += aero.aero_power(wind, s.rotor_speed, pitch) / 3.0;
-  }
-  return p;
-}
-
-namespace {
-bool usable_wind(double v) { return std::isfinite(v) && v >= 0.0 && v <= 60.0; }
-}  // namespace
-
-AeroPowerInput::AeroPowerInput(const AeroModel& aero, double wind_window, double sample_time)
-    : aero_(aero),
-      half_(static_cast<std::size_t>(std::lround(0.5 * std::max(0.0, wind_window) / sample_time))) {}
-
-bool AeroPowerInput::push(const FrameSample& s, bool gap, FrameSample& out, bool& out_gap, double& power) {
-  window_.push_back(Entry{s, gap});
-  if (usable_wind(s.wind_hub)) wind_sum_ += s.wind_hub, ++wind_count_;
-  // The next sample out is the one half a window behind the newest (at the start, with fewer before it).
-  if (window_.size() - 1 - next_ < half_) return false;
-  const Entry& centre = window_[next_];
-  out = centre.sample;
-  out_gap = centre.gap;
-  if (std::isfinite(out.aero_power)) {
-    power = out.aero_power;  // the recording's column (replay contract)
-  } else {
-    power = usable_wind(out.wind_hub)
-                ? model_aero_power(aero_, wind_sum_ / static_cast<double>(wind_count_), out)
-                : kNaN;
-  }
-  if (++next_ > half_) {
-    if (usable_wind(window_.front().sample.wind_hub))
-      wind_sum_ -= window_.front().sample.wind_hub, --wind_count_;
-    window_.pop_front();
-    --next_;
-  }
-  return true;
-}
-
 namespace {
 
 class IceDiagnoser : public TurbineDiagnoser {

@@ -343,6 +343,17 @@ TEST(AeroPowerInput, ModelPowerIsNanForMissingInputs) {
   s.pitch[1] = kNaN;
   EXPECT_TRUE(std::isnan(model_aero_power(aero, 10.0, s)));
   EXPECT_TRUE(std::isnan(model_aero_power(aero, kNaN, s)));
+  // Out of the plausible range: no power, and the limits are the caller's
+  s.pitch[1] = 0.0;
+  PowerModelLimits narrow;
+  narrow.rotor_speed_max = 1.0;
+  EXPECT_TRUE(std::isnan(model_aero_power(aero, 10.0, s, narrow)));
+  EXPECT_GT(model_aero_power(aero, 10.0, s), 1e6);
+  EXPECT_TRUE(std::isnan(model_aero_power(aero, 61.0, s)));
+  s.pitch[2] = 96.0;
+  EXPECT_TRUE(std::isnan(model_aero_power(aero, 10.0, s)));
+  s.pitch[2] = 0.0;
+  s.pitch[1] = kNaN;
   // Without averaging every sample comes straight out, and a recording's column wins over the model.
   AeroPowerInput direct(aero, 0.0, 0.01);
   FrameSample out;

@@ -1,0 +1,57 @@
+// Aerodynamic power for the inertia regression: the recording's column or the model on a centred wind
+// average.
+#include "aero_power_input.hpp"
+
+#include <cmath>
+
+namespace windfdi::ice_detect {
+
+double model_aero_power(const AeroModel& aero, double wind, const FrameSample& s,
+                        const PowerModelLimits& limits) {
+  // Blade by blade: with individual pitch the blades' Cp differ and Cp is far from linear in pitch.
+  if (!std::isfinite(wind) || wind < 0.0 || wind > limits.wind_max || !std::isfinite(s.rotor_speed) ||
+      s.rotor_speed < 0.0 || s.rotor_speed > limits.rotor_speed_max)
+    return kNaN;
+  double p = 0.0;
+  for (double pitch : s.pitch) {
+    if (!std::isfinite(pitch) || pitch < limits.pitch_min || pitch > limits.pitch_max) return kNaN;
+    p += aero.aero_power(wind, s.rotor_speed, pitch) / 3.0;
+  }
+  return p;
+}
+
+AeroPowerInput::AeroPowerInput(const AeroModel& aero, double wind_window, double sample_time,
+                               PowerModelLimits limits)
+    : aero_(aero),
+      limits_(limits),
+      half_(static_cast<std::size_t>(std::lround(0.5 * std::max(0.0, wind_window) / sample_time))) {}
+
+bool AeroPowerInput::usable_wind(double v) const {
+  return std::isfinite(v) && v >= 0.0 && v <= limits_.wind_max;
+}
+
+bool AeroPowerInput::push(const FrameSample& s, bool gap, FrameSample& out, bool& out_gap, double& power) {
+  window_.push_back(Entry{s, gap});
+  if (usable_wind(s.wind_hub)) wind_sum_ += s.wind_hub, ++wind_count_;
+  // The next sample out is the one half a window behind the newest (at the start, with fewer before it).
+  if (window_.size() - 1 - next_ < half_) return false;
+  const Entry& centre = window_[next_];
+  out = centre.sample;
+  out_gap = centre.gap;
+  if (std::isfinite(out.aero_power)) {
+    power = out.aero_power;  // the recording's column (replay contract)
+  } else {
+    power = usable_wind(out.wind_hub)
+                ? model_aero_power(aero_, wind_sum_ / static_cast<double>(wind_count_), out, limits_)
+                : kNaN;
+  }
+  if (++next_ > half_) {
+    if (usable_wind(window_.front().sample.wind_hub))
+      wind_sum_ -= window_.front().sample.wind_hub, --wind_count_;
+    window_.pop_front();
+    --next_;
+  }
+  return true;
+}
+
+}  // namespace windfdi::ice_detect

@@ -1,0 +1,56 @@
+// Aerodynamic power for the inertia regression: the recording's column, or the turbine model on a centred
+// anemometer average (Stotsky & Egardt 2013 take the power as known; the plant's anemometer makes it noisy).
+#pragma once
+
+#include <cstddef>
+#include <deque>
+
+#include "frame_sample.hpp"
+#include "turbine_params.hpp"
+
+namespace windfdi::ice_detect {
+
+/// Plausible measurements for the power model: beyond them a sample has no power (NaN), not a wild one.
+struct PowerModelLimits {
+  double wind_max = 60.0;        ///< m/s
+  double rotor_speed_max = 5.0;  ///< rad/s
+  double pitch_min = -5.0;       ///< deg
+  double pitch_max = 95.0;       ///< deg
+};
+
+/// Aerodynamic power of one turbine's samples: the recording's `aero_power` when present, else the turbine
+/// model on the anemometer, rotor speed and each blade's pitch. The anemometer's noise (0.5 m/s a sample)
+/// through the cubic, Cp-shaped model leaves a power bias that moves with the operating point, which the
+/// inertia regression cannot tell from the rotor's own transients; a causal low-pass would trade it for a
+/// lag that is worse still. So the wind is averaged over a window centred on each sample: samples leave
+/// half a window (a fraction of a second) late, with their power.
+class AeroPowerInput {
+ public:
+  /// `wind_window` (s, 0: no averaging) at the sample time `sample_time` (s).
+  AeroPowerInput(const AeroModel& aero, double wind_window, double sample_time, PowerModelLimits limits = {});
+  /// Takes a sample (`gap`: samples were lost before it). Returns true when a delayed sample is out, in
+  /// `out` and `out_gap`, with its aerodynamic power in `power` (NaN when an input is missing or out of
+  /// range). A gap does not break the average: the wind a second apart is still the same gust.
+  bool push(const FrameSample& s, bool gap, FrameSample& out, bool& out_gap, double& power);
+
+ private:
+  bool usable_wind(double v) const;
+  struct Entry {
+    FrameSample sample;
+    bool gap = false;
+  };
+  const AeroModel& aero_;
+  PowerModelLimits limits_;
+  std::size_t half_;          // samples each side of the centre
+  std::deque<Entry> window_;  // half_ samples before the next one out, it, and up to half_ after
+  std::size_t next_ = 0;      // index in window_ of the next sample out
+  double wind_sum_ = 0.0;     // over the window's finite anemometer values
+  std::size_t wind_count_ = 0;
+};
+
+/// The model's aerodynamic power (W) at hub wind `wind` (m/s), blade by blade; NaN for a missing or out of
+/// range input.
+double model_aero_power(const AeroModel& aero, double wind, const FrameSample& s,
+                        const PowerModelLimits& limits = {});
+
+}  // namespace windfdi::ice_detect
