@@ -38,7 +38,7 @@ struct ControlInput {
   double inertia = 0.0;  ///< kg m^2 generator side for the ice-adapted controller (0: nominal)
 };
 
-/// Baseline controller gains (documented in deploy/turbine/benchmark_4.8MW.yaml's companion README).
+/// Baseline controller gains (plant_sim/README.md).
 struct ControllerParams {
   double pitch_kp = 1.0;             ///< deg per rad/s of generator speed error
   double pitch_ki = 0.4;             ///< deg per (rad/s * s)

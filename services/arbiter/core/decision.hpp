@@ -36,7 +36,7 @@ struct ArbiterConfig {
   /// Relative change of the inertia estimate that re-tunes the ice-adapted controller (0..0.5). Each 1 Hz
   /// estimate used to be a new configuration: 30 revisions a second at 30x, a controller re-tuned on noise.
   double inertia_step = 0.02;
-  /// s a fault of a class that warrants a safe stop must hold its stop severity (fault or critical) with its
+  /// s a fault of a class that warrants a safe stop must hold its stop severity (critical) with its
   /// class unchanged before the turbine is stopped (0..600). A stop costs production; a flip or a warning
   /// gets the reversible derate below until the evidence settles.
   double stop_confirm_time = 10.0;

@@ -24,8 +24,8 @@ const std::array<const char*, kChannels>& channel_components();  ///< canonical 
 
 struct BiasConfig {
   Mode mode = Mode::kObserver;        ///< observer (default, uses the measurements) or paper (eqs 5 + 8)
-  std::string drive_train_gain_file;  ///< gain file of windfdi-qb-design (observer: 5 states; paper: 3)
-  std::string pitch_gain_file;        ///< (observer: 3 states; paper: 2)
+  std::string drive_train_gain_file;  ///< gain file of windfdi-qb-design (observer: 7 or 5 states; paper: 3)
+  std::string pitch_gain_file;        ///< (observer: 4 or 3 states; paper: 2)
   std::array<double, kChannels> threshold{0.017, 1.62,
                                           0.5};  ///< |bias| to flag: rad/s, rad/s, deg (pitch: all 3)
   double raise_time =
