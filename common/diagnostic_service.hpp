@@ -7,7 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "dds/endpoints.hpp"
 #include "dds/participant.hpp"
+#include "estimate_fields.hpp"
 #include "fault_event.hpp"
 #include "frame_sample.hpp"
 #include "input_context.hpp"
@@ -48,6 +50,77 @@ struct ServiceSpec {
   std::function<std::unique_ptr<TurbineDiagnoser>(const std::string& turbine_id)> make;
   std::function<EstimatePublisher(bus::Participant& participant)> make_publisher;
 };
+
+/// One turbine's diagnosis by a service's core. Every core has the same shape:
+///   bool update(const FrameSample&, bool gap, std::vector<FaultEvent>&)  (false: the sample was rejected)
+///   bool estimate_due(Estimate&)                                        (at the service's output rate)
+///   void set_context(const InputContext&, double t)
+/// and its estimate one field list (estimate_fields.hpp) from which the replay columns and the DDS sample
+/// (`Idl`, with t and turbine_id) both come.
+template <class Core, class Estimate, class Idl>
+class CoreDiagnoser final : public TurbineDiagnoser {
+ public:
+  CoreDiagnoser(std::unique_ptr<Core> core, const EstimateFields<Estimate, Idl>& fields)
+      : core_(std::move(core)), fields_(fields) {}
+  bool update(const FrameSample& sample, bool gap, std::vector<FaultEvent>& events) override {
+    return core_->update(sample, gap, events);
+  }
+  bool estimate_due(std::vector<std::string>& values) override {
+    if (!core_->estimate_due(last_)) return false;
+    csv_values(fields_, last_, values);
+    return true;
+  }
+  void set_context(const InputContext& context, double t) override { core_->set_context(context, t); }
+  /// The last estimate as its DDS sample.
+  Idl sample(const std::string& turbine_id) const {
+    Idl out;
+    out.t(last_.t);
+    out.turbine_id(turbine_id);
+    put_fields(fields_, last_, out);
+    return out;
+  }
+
+ private:
+  std::unique_ptr<Core> core_;
+  const EstimateFields<Estimate, Idl>& fields_;
+  Estimate last_{};
+};
+
+/// What a service is, typed: its names, its estimate's fields, how it reads its configuration (once) and
+/// makes one turbine's core.
+template <class Core, class Estimate, class Idl>
+struct TypedService {
+  std::string name;         ///< canonical service name, e.g. "pitch_diag"
+  std::string description;  ///< one line for --help
+  bool wants_lidar = false;
+  EstimateFields<Estimate, Idl> fields;
+  std::function<void(const YamlSection& config)> configure;
+  std::function<std::unique_ptr<Core>(const std::string& turbine_id)> make;
+};
+
+/// The ServiceSpec the shared main runs, from a typed service.
+template <class Core, class Estimate, class Idl>
+ServiceSpec service_spec(TypedService<Core, Estimate, Idl> typed) {
+  using Diagnoser = CoreDiagnoser<Core, Estimate, Idl>;
+  const auto s = std::make_shared<const TypedService<Core, Estimate, Idl>>(std::move(typed));
+  ServiceSpec spec;
+  spec.name = s->name;
+  spec.description = s->description;
+  spec.estimate_columns = csv_columns(s->fields);
+  spec.wants_lidar = s->wants_lidar;
+  spec.configure = s->configure;
+  spec.make = [s](const std::string& id) -> std::unique_ptr<TurbineDiagnoser> {
+    return std::make_unique<Diagnoser>(s->make(id), s->fields);
+  };
+  spec.make_publisher = [s](bus::Participant& participant) -> EstimatePublisher {
+    auto writer = std::make_shared<bus::Writer<Idl>>(participant);
+    // Every diagnoser this spec runs was made by spec.make above: a Diagnoser.
+    return [s, writer](const std::string& id, double, TurbineDiagnoser& d) {
+      writer->write(static_cast<Diagnoser&>(d).sample(id));
+    };
+  };
+  return spec;
+}
 
 /// The turbine a service configuration names in `turbine_file` (relative: beside the configuration), else
 /// the shipped benchmark turbine (deploy_dir()/turbine/benchmark_4.8MW.yaml).

@@ -15,15 +15,15 @@ namespace windfdi {
 /// A configuration or input-file error. Executables catch it and exit with code 2.
 class ConfigError : public std::runtime_error {
  public:
-  ConfigError(const std::string& file, int line, const std::string& key, const std::string& message)
+  ConfigError(const std::string& file, long line, const std::string& key, const std::string& message)
       : std::runtime_error(format(file, line, key, message)), file_(file), line_(line), key_(key) {}
 
   const std::string& file() const { return file_; }
-  int line() const { return line_; }
+  long line() const { return line_; }
   const std::string& key() const { return key_; }
 
  private:
-  static std::string format(const std::string& file, int line, const std::string& key,
+  static std::string format(const std::string& file, long line, const std::string& key,
                             const std::string& message) {
     std::string s = file;
     if (line > 0) s += ":" + std::to_string(line);
@@ -31,7 +31,7 @@ class ConfigError : public std::runtime_error {
     return s + ": " + message;
   }
   std::string file_;
-  int line_;
+  long line_;
   std::string key_;
 };
 

@@ -143,7 +143,7 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
   std::vector<windfdi::SensorBiasEstimate> biases;
   uint64_t write_failures = 0;
   for (uint64_t k = 0; k < n_samples && !shutdown_requested(); ++k) {
-    const double t = k * dt;
+    const double t = static_cast<double>(k) * dt;
     if (o.rate > 0.0) {
       const double due = wall_start + t / o.rate;
       const double now = wall_time();

@@ -1,7 +1,7 @@
 # CMake helpers for windfdi: one function per recurring shape (a gtest, a service).
 include_guard(GLOBAL)
 
-set(WINDFDI_WARNINGS -Wall -Wextra -Wpedantic -Wshadow)
+set(WINDFDI_WARNINGS -Wall -Wextra -Wpedantic -Wshadow -Wconversion)
 
 # windfdi_add_gtest(NAME SOURCES a.cpp b.cpp LIBS lib1 lib2 [LABELS l1] [TIMEOUT s])
 # Builds one GoogleTest executable and registers each TEST with ctest.

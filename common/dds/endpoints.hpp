@@ -202,7 +202,8 @@ class Reader : private eprosima::fastdds::dds::DataReaderListener {
       if (!info.valid_data) continue;
       if (!wanted_.empty() && !wanted_.count(sample.turbine_id())) continue;
       out.push_back(sample);
-      if (meta) meta->push_back({info.publication_handle, info.source_timestamp.to_ns() * 1e-9});
+      if (meta)
+        meta->push_back({info.publication_handle, static_cast<double>(info.source_timestamp.to_ns()) * 1e-9});
       ++n;
     }
     return n;

@@ -7,8 +7,6 @@
 #include <memory>
 
 #include "Estimates.h"
-#include "csv.hpp"
-#include "dds/endpoints.hpp"
 #include "deploy_dir.hpp"
 
 namespace windfdi::blade_load {
@@ -30,9 +28,11 @@ struct State {
   double save_period = 600.0;
 };
 
-class BladeLoadDiagnoser : public TurbineDiagnoser {
+/// The monitor with its learned state kept in a file per turbine (restored at start, saved every
+/// save_period of sample time and at exit), in the shape of every service core.
+class BladeLoadTurbine {
  public:
-  BladeLoadDiagnoser(const State& s, const std::string& id)
+  BladeLoadTurbine(const State& s, const std::string& id)
       : monitor_(s.config, s.table),
         path_(s.state_file.empty() ? "" : state_path_for(s.state_file, id)),
         save_period_(s.save_period) {
@@ -43,8 +43,11 @@ class BladeLoadDiagnoser : public TurbineDiagnoser {
       spdlog::info("blade_load {}: restored learned table and healthy statistics from {}", id, path_);
     }
   }
-  ~BladeLoadDiagnoser() override { save(); }
-  bool update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events) override {
+  ~BladeLoadTurbine() { save(); }
+  BladeLoadTurbine(const BladeLoadTurbine&) = delete;
+  BladeLoadTurbine& operator=(const BladeLoadTurbine&) = delete;
+
+  bool update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events) {
     const bool ok = monitor_.update(s, gap, events);
     if (!path_.empty() && ok) {
       if (next_save_ < 0) next_save_ = s.t + save_period_;
@@ -55,16 +58,8 @@ class BladeLoadDiagnoser : public TurbineDiagnoser {
     }
     return ok;
   }
-  void set_context(const InputContext& context, double t) override { monitor_.set_context(context, t); }
-  bool estimate_due(std::vector<std::string>& values) override {
-    if (!monitor_.estimate_due(last_)) return false;
-    values.clear();
-    for (double v : last_.a1_sensor) values.push_back(format_number(v));
-    for (double v : last_.a1_model) values.push_back(format_number(v));
-    for (double v : last_.delta_a) values.push_back(format_number(v));
-    return true;
-  }
-  const BladeLoadOutput& last() const { return last_; }
+  bool estimate_due(BladeLoadOutput& out) { return monitor_.estimate_due(out); }
+  void set_context(const InputContext& context, double t) { monitor_.set_context(context, t); }
 
  private:
   void save() {
@@ -79,22 +74,36 @@ class BladeLoadDiagnoser : public TurbineDiagnoser {
   std::string path_;
   double save_period_;
   double next_save_ = -1.0;
-  BladeLoadOutput last_;
 };
+
+using Idl = windfdi::BladeLoadEstimate;
+using E = BladeLoadOutput;
 
 }  // namespace
 
 ServiceSpec blade_load_spec() {
   auto state = std::make_shared<State>();
-  ServiceSpec spec;
-  spec.name = "blade_load";
-  spec.description =
+  TypedService<BladeLoadTurbine, E, Idl> s;
+  s.name = "blade_load";
+  s.description =
       "Blade-root moment sensor faults from the first harmonic, strain gauge vs LIDAR load model (Stotsky "
       "2014)";
-  spec.estimate_columns = {"a1_sensor_1", "a1_sensor_2", "a1_sensor_3", "a1_model_1", "a1_model_2",
-                           "a1_model_3",  "delta_a_1",   "delta_a_2",   "delta_a_3"};
-  spec.wants_lidar = true;
-  spec.configure = [state](const YamlSection& cfg) {
+  s.wants_lidar = true;
+  // The replay contract's columns first (a1_sensor, a1_model, delta_a), then the validity flags.
+  s.fields = {
+      per_blade_numbers<E, Idl>(
+          "a1_sensor", [](const E& e) { return e.a1_sensor; }, [](Idl& o, const auto& v) { o.a1_sensor(v); }),
+      per_blade_numbers<E, Idl>(
+          "a1_model", [](const E& e) { return e.a1_model; }, [](Idl& o, const auto& v) { o.a1_model(v); }),
+      per_blade_numbers<E, Idl>(
+          "delta_a", [](const E& e) { return e.delta_a; }, [](Idl& o, const auto& v) { o.delta_a(v); }),
+      per_blade_field<E, Idl>(
+          "valid", [](const E& e) { return e.valid; }, [](Idl& o, const auto& v) { o.valid(v); },
+          [](bool x) { return std::string(x ? "1" : "0"); }),
+      flag_field<E, Idl>(
+          "lidar_ok", [](const E& e) { return e.lidar_ok; }, [](Idl& o, bool v) { o.lidar_ok(v); }),
+  };
+  s.configure = [state](const YamlSection& cfg) {
     // Relative files are taken beside the configuration file.
     state->turbine = configured_turbine(cfg);
     state->config = load_monitor_config(cfg, state->turbine);
@@ -104,25 +113,8 @@ ServiceSpec blade_load_spec() {
     state->state_file = cfg.get<std::string>("state_file", "").empty() ? "" : cfg.get_path("state_file", "");
     state->save_period = cfg.get_number("save_period", 600.0, 1.0, 1e7);
   };
-  spec.make = [state](const std::string& id) -> std::unique_ptr<TurbineDiagnoser> {
-    return std::make_unique<BladeLoadDiagnoser>(*state, id);
-  };
-  spec.make_publisher = [](bus::Participant& participant) -> EstimatePublisher {
-    auto writer = std::make_shared<bus::Writer<windfdi::BladeLoadEstimate>>(participant);
-    return [writer](const std::string& id, double, TurbineDiagnoser& d) {
-      const auto& o = static_cast<BladeLoadDiagnoser&>(d).last();
-      windfdi::BladeLoadEstimate e;
-      e.t(o.t);
-      e.turbine_id(id);
-      e.a1_sensor(o.a1_sensor);
-      e.a1_model(o.a1_model);
-      e.delta_a(o.delta_a);
-      e.valid(o.valid);
-      e.lidar_ok(o.lidar_ok);
-      writer->write(e);
-    };
-  };
-  return spec;
+  s.make = [state](const std::string& id) { return std::make_unique<BladeLoadTurbine>(*state, id); };
+  return service_spec(std::move(s));
 }
 
 }  // namespace windfdi::blade_load

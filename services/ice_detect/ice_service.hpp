@@ -1,9 +1,8 @@
 // windfdi-ice-detect's service spec (the shared diagnostic-service main runs it).
 #pragma once
 
-#include "aero_power_input.hpp"
 #include "diagnostic_service.hpp"
-#include "ice_detector.hpp"
+#include "ice_turbine.hpp"
 
 namespace windfdi::ice_detect {
 

@@ -6,9 +6,6 @@
 
 namespace windfdi::pitch_diag {
 
-/// A PitchEvent in the canonical FaultEvent form (turbine and source are filled in by the service main).
-FaultEvent to_fault_event(const PitchEvent& e);
-
 ServiceSpec pitch_diag_spec();
 
 }  // namespace windfdi::pitch_diag

@@ -63,7 +63,7 @@ Replay replay(const std::string& scenario) {
 
 const char* kColumns =
     "t,turbine_id,a1_sensor_1,a1_sensor_2,a1_sensor_3,a1_model_1,a1_model_2,a1_model_3,delta_a_1,delta_a_2,"
-    "delta_a_3";
+    "delta_a_3,valid_1,valid_2,valid_3,lidar_ok";
 
 // The first raised event on a component (nullptr: none).
 const json* first_raised(const std::vector<json>& events, const std::string& component) {

@@ -18,7 +18,8 @@ static void BM_UpdateOnly(benchmark::State& state) {
     psi = std::fmod(psi + 0.015, 2 * M_PI);
     est.update(5e6 + 1e6 * std::cos(psi), psi, 1.5);
   }
-  state.counters["blade_samples_per_s"] = benchmark::Counter(state.iterations(), benchmark::Counter::kIsRate);
+  state.counters["blade_samples_per_s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_UpdateOnly)->Arg(4);
 
@@ -37,7 +38,8 @@ static void BM_UpdateAndSolve(benchmark::State& state) {
     est.update(5e6 + 1e6 * std::cos(psi), psi, 1.5);
     benchmark::DoNotOptimize(est.solve().valid);
   }
-  state.counters["blade_samples_per_s"] = benchmark::Counter(state.iterations(), benchmark::Counter::kIsRate);
+  state.counters["blade_samples_per_s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_UpdateAndSolve)->Arg(4);
 

@@ -27,7 +27,7 @@ struct Data {
       const double yk = -th(0) * y1 - th(1) * y2 + th(2) * u1 + th(3) * u2;
       s = s * 6364136223846793005ull + 1442695040888963407ull;
       u.push_back(uk);
-      y.push_back(yk + 0.2 * ((s >> 11) * 0x1.0p-53 - 0.5) * 3.46);
+      y.push_back(yk + 0.2 * (static_cast<double>(s >> 11) * 0x1.0p-53 - 0.5) * 3.46);
       y2 = y1, y1 = yk, u2 = u1, u1 = uk;
     }
   }
@@ -60,19 +60,19 @@ void BM_Diagnoser(benchmark::State& state) {
   const auto& d = data();
   const std::size_t n = d.u.size();
   FrameSample s;
-  std::vector<PitchEvent> ev;
+  std::vector<FaultEvent> ev;
   PitchEstimate est;
   std::size_t k = 0;
   uint64_t seq = 0;
   for (auto _ : state) {
     s.sequence = seq;
-    s.t = seq * 0.01;
+    s.t = static_cast<double>(seq) * 0.01;
     ++seq;
     for (int i = 0; i < 3; ++i) {
       s.pitch_ref[i] = d.u[(k + 997 * i) % n];
       s.pitch[i] = d.y[(k + 997 * i) % n];
     }
-    diag.update(s, ev);
+    diag.update(s, false, ev);
     diag.estimate_due(est);
     ev.clear();
     if (++k == n) k = 0;

@@ -13,7 +13,8 @@ static void BM_TurbineStep(benchmark::State& state) {
   TurbineSim sim(windfdi::TurbineParams{}, t, {}, 1, 100.0);
   for (auto _ : state) benchmark::DoNotOptimize(sim.step().generator_speed);
   // One step is 10 ms of simulated time.
-  state.counters["x_real_time"] = benchmark::Counter(0.01 * state.iterations(), benchmark::Counter::kIsRate);
+  state.counters["x_real_time"] =
+      benchmark::Counter(0.01 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_TurbineStep)->Arg(8)->Arg(16)->Repetitions(3)->ReportAggregatesOnly(true);
 

@@ -34,12 +34,12 @@ std::vector<FrameSample> record(double wind, double seconds, const std::vector<p
   return out;
 }
 
-std::vector<PitchEvent> diagnose(const PitchDiagConfig& cfg, const std::vector<FrameSample>& rec) {
+std::vector<FaultEvent> diagnose(const PitchDiagConfig& cfg, const std::vector<FrameSample>& rec) {
   PitchDiagnoser d(cfg);
-  std::vector<PitchEvent> all, ev;
+  std::vector<FaultEvent> all, ev;
   for (const auto& s : rec) {
     ev.clear();
-    d.update(s, ev);
+    d.update(s, false, ev);
     all.insert(all.end(), ev.begin(), ev.end());
   }
   return all;
@@ -151,7 +151,7 @@ int main(int argc, char** argv) {
       for (const auto& x : sig)
         if (x.name == r.fault) t_info = first_information(r.rec, r.blade, t_on, sig[0], x);
       informed += std::isfinite(t_info);
-      const PitchEvent* first = nullptr;
+      const FaultEvent* first = nullptr;
       for (const auto& e : ev)
         if (e.raised) {
           first = &e;
@@ -193,7 +193,8 @@ int main(int argc, char** argv) {
     for (double d : delays) dmax = std::max(dmax, d);
     std::printf("| %s | %d/27 | %d | %d | %.1f / %.1f | %d/%d/%d of 9 | %d of %d | %s | %.1f M |\n",
                 method_name(m), right, wrong, missed, median(delays), dmax, within[14.0], within[17.0],
-                within[20.0], within_info, informed, false_alarms.c_str(), 3.0 * samples / wall / 1e6);
+                within[20.0], within_info, informed, false_alarms.c_str(),
+                3.0 * static_cast<double>(samples) / wall / 1e6);
   }
   return 0;
 }

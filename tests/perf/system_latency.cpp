@@ -354,8 +354,8 @@ int run_health(int domain, double duration, double warmup, int turbines) {
       for (std::size_t i = 0; i < hs.size(); ++i) {
         lags.push_back(hs[i].lag());
         max_lag = std::max(max_lag, hs[i].lag());
-        if (third && i < third) first += hs[i].lag() / third;
-        if (third && i >= hs.size() - third) last += hs[i].lag() / third;
+        if (third && i < third) first += hs[i].lag() / static_cast<double>(third);
+        if (third && i >= hs.size() - third) last += hs[i].lag() / static_cast<double>(third);
       }
       growth = std::max(growth, last - first);
     }

@@ -74,7 +74,7 @@ LoadTable LoadTable::load_csv(const std::string& path) {
     const double step = v[1] - v[0];
     if (!(step > 0)) throw ConfigError(path, 0, what, "grid must increase");
     for (std::size_t i = 1; i < v.size(); ++i)
-      if (std::fabs(v[i] - v[0] - i * step) > 1e-6 * (1 + std::fabs(v[i])))
+      if (std::fabs(v[i] - v[0] - static_cast<double>(i) * step) > 1e-6 * (1 + std::fabs(v[i])))
         throw ConfigError(path, 0, what, "grid must be regular");
     return step;
   };

@@ -198,12 +198,13 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
     while (recent_.size() > static_cast<std::size_t>(cfg_.median_estimates)) recent_.pop_front();
   }
   if (!recent_.empty()) out_.inertia = median(std::vector<double>(recent_.begin(), recent_.end()));
-  if (cfg_.learn_time > 0.0 && out_.inertia > 0.0 && learning_.size() < cfg_.learn_time) {
+  if (cfg_.learn_time > 0.0 && out_.inertia > 0.0 &&
+      static_cast<double>(learning_.size()) < cfg_.learn_time) {
     learning_.push_back(out_.inertia);
-    if (learning_.size() >= cfg_.learn_time) j0_ = median(learning_);
+    if (static_cast<double>(learning_.size()) >= cfg_.learn_time) j0_ = median(learning_);
   }
   out_.inertia_clean = j0_;
-  const bool learning = cfg_.learn_time > 0.0 && learning_.size() < cfg_.learn_time;
+  const bool learning = cfg_.learn_time > 0.0 && static_cast<double>(learning_.size()) < cfg_.learn_time;
   out_.ice_mass =
       (out_.inertia > 0.0 && !learning) ? std::max(0.0, (out_.inertia - j0_) * mass_per_inertia_) : 0.0;
   due_ = true;

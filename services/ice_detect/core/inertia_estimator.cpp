@@ -143,7 +143,7 @@ void InertiaEstimator::update(double omega, double power, double gen_torque) {
     current_.x += x * cfg_.sample_time;
     current_.g += generator_side * cfg_.sample_time;
     if (samples_in_second_ == 0) current_.omega_start = prev_omega_f_;
-    if (++samples_in_second_ * cfg_.sample_time >= 1.0 - 1e-9) {
+    if (static_cast<double>(++samples_in_second_) * cfg_.sample_time >= 1.0 - 1e-9) {
       current_.omega_end = omega_f_;
       seconds_[second_head_] = current_;
       second_head_ = (second_head_ + 1) % seconds_.size();

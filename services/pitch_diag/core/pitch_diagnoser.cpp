@@ -132,8 +132,8 @@ BladeDiagnoser::BladeDiagnoser(const PitchDiagConfig& config, int blade)
   model_ = id_.model();
 }
 
-void BladeDiagnoser::emit(double t, const std::string& fault, bool raised, std::vector<PitchEvent>& events) {
-  PitchEvent e;
+void BladeDiagnoser::emit(double t, const std::string& fault, bool raised, std::vector<FaultEvent>& events) {
+  FaultEvent e;
   e.t = t;
   e.component = component_;
   e.fault = fault;
@@ -157,7 +157,7 @@ void BladeDiagnoser::emit(double t, const std::string& fault, bool raised, std::
   events.push_back(e);
 }
 
-void BladeDiagnoser::tick(double t, double dt, std::vector<PitchEvent>& events) {
+void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) {
   if (!id_.decisive()) return;  // held: no decision (and the published estimate is the last decided one)
   model_ = id_.model();
   if (!model_.valid) {
@@ -256,7 +256,9 @@ PitchDiagnoser::PitchDiagnoser(const PitchDiagConfig& config) : cfg_(config), su
   for (int i = 0; i < kBlades; ++i) blades_.emplace_back(cfg_, i);
 }
 
-void PitchDiagnoser::update(const FrameSample& s, std::vector<PitchEvent>& events) {
+bool PitchDiagnoser::update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events) {
+  (void)gap;
+  const uint64_t rejected_before = rejected();
   if (have_last_ && s.sequence != last_sequence_ + 1) {
     // Lost samples: y(t-1), y(t-2) of the regressor are not the previous samples any more.
     ++gaps_;
@@ -323,6 +325,7 @@ void PitchDiagnoser::update(const FrameSample& s, std::vector<PitchEvent>& event
     due_ = true;
     next_tick_ = std::max(next_tick_ + cfg_.estimate_period, s.t + 0.5 * cfg_.estimate_period);
   }
+  return rejected() == rejected_before;
 }
 
 bool PitchDiagnoser::estimate_due(PitchEstimate& out) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "fault_event.hpp"
 #include "frame_sample.hpp"
 #include "identifier.hpp"
 #include "input_context.hpp"
@@ -57,18 +58,6 @@ struct PitchDiagConfig {
 PitchDiagConfig load_pitch_diag_config(const YamlSection& section);
 
 /// One raised or cleared fault (plain struct; the node turns it into a FaultReport).
-struct PitchEvent {
-  double t = 0.0;           ///< s, time of this report
-  std::string component;    ///< pitch_actuator_1..3
-  std::string fault;        ///< pump_wear, hydraulic_leakage or high_air_content
-  bool raised = true;       ///< false: cleared
-  std::string severity;     ///< warning or fault
-  double t_detected = 0.0;  ///< s, when the class was first seen (start of the confirmation)
-  double statistic = 0.0;   ///< alpha (eqs 11-13) along the fault's path
-  double threshold = 0.0;   ///< alpha it was compared with (alpha_detect to raise, alpha_clear to clear)
-  double size = 0.0;        ///< alpha, 0 healthy .. 1 fully developed Table 1 fault
-  std::string detail;       ///< omega_n, zeta and any ambiguity, in words
-};
 
 /// The 10 Hz estimate (replay columns omega_n_1..3, zeta_1..3, class_1..3).
 struct PitchEstimate {
@@ -102,7 +91,7 @@ class BladeDiagnoser {
   /// No class counts towards confirmation before sample time t (the identification runs on).
   void decide_from(double t) { decide_from_ = std::max(decide_from_, t); }
   /// A decision tick at time t (s): classification, confirmation and hysteresis.
-  void tick(double t, double dt, std::vector<PitchEvent>& events);
+  void tick(double t, double dt, std::vector<FaultEvent>& events);
 
   const Identifier& identifier() const { return id_; }
   const Classification& classification() const { return cls_; }
@@ -110,7 +99,7 @@ class BladeDiagnoser {
   const std::string& raised() const { return raised_; }
 
  private:
-  void emit(double t, const std::string& fault, bool raised, std::vector<PitchEvent>& events);
+  void emit(double t, const std::string& fault, bool raised, std::vector<FaultEvent>& events);
 
   const PitchDiagConfig* cfg_;
   std::string component_;
@@ -132,9 +121,10 @@ class PitchDiagnoser {
  public:
   explicit PitchDiagnoser(const PitchDiagConfig& config);
 
-  /// Feeds one sample. Invalid pitch/reference (mask, NaN, inf, outside pitch_min..pitch_max) is rejected and
-  /// counted, never fed, and restarts that blade's regressor; a sequence gap restarts all blades.
-  void update(const FrameSample& s, std::vector<PitchEvent>& events);
+  /// Feeds one sample; false when a blade's pitch or reference was rejected (mask, NaN, inf, outside
+  /// pitch_min..pitch_max): counted, never fed, and that blade's regressor restarts. A sequence gap restarts
+  /// all blades (the core reads it from the sequence numbers; `gap` only repeats it).
+  bool update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events);
   /// True once per estimate_period of sample time, with the estimate in `out`.
   bool estimate_due(PitchEstimate& out);
 

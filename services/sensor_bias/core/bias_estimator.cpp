@@ -152,6 +152,7 @@ double BiasEstimator::aero_torque(const FrameSample& s) const {
 }
 
 bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events) {
+  fresh_ = true;
   if (!std::isfinite(s.t)) {
     ++rejected_;
     return false;

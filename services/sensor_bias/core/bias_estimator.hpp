@@ -113,6 +113,14 @@ class BiasEstimator {
   bool update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events);
   const BiasOutput& output() const { return out_; }
   bool has_output() const { return has_output_; }
+  /// True once per sample fed since the last call, once there is an output (estimates at frame rate: the
+  /// corrected measurements the controller may use), with the output in `out`.
+  bool estimate_due(BiasOutput& out) {
+    if (!fresh_ || !has_output_) return false;
+    fresh_ = false;
+    out = out_;
+    return true;
+  }
   uint64_t rejected() const { return rejected_; }
   /// Pitch samples on which the bias was held because the actuator was rate limited (max_tracking_error).
   uint64_t tracking_holds() const { return tracking_holds_; }
@@ -157,6 +165,7 @@ class BiasEstimator {
   std::array<bool, kChannels> raised_{};
   BiasOutput out_;
   bool has_output_ = false;
+  bool fresh_ = false;  // a sample was fed since the last estimate
   uint64_t rejected_ = 0, fed_dt_ = 0, witness_used_ = 0, tracking_holds_ = 0, actuator_holds_ = 0;
   InputContext context_;
   std::array<double, 3> last_pitch_{};

@@ -19,13 +19,13 @@ FrameSample sample(uint64_t k) {
   FrameSample s;
   s.sequence = k;
   s.t = 0.01 * static_cast<double>(k);
-  s.rotor_speed = 1.26 + 1e-3 * std::sin(0.1 * k);
+  s.rotor_speed = 1.26 + 1e-3 * std::sin(0.1 * static_cast<double>(k));
   s.generator_speed = 95.0 * s.rotor_speed;
-  s.gen_torque = 31e3 + k;
+  s.gen_torque = 31e3 + static_cast<double>(k);
   s.gen_torque_ref = 31e3;
   s.power = 4.8e6 / 3.0;
   s.wind_hub = 11.3;
-  s.azimuth = std::fmod(0.1 * k, 2 * M_PI);
+  s.azimuth = std::fmod(0.1 * static_cast<double>(k), 2 * M_PI);
   s.pitch = {1.0 / 3.0, 2.0, 3.5};
   s.pitch_ref = {1.0, 2.0, 3.0};
   s.blade_moment = {1.1e6, 1.2e6, 0.9e6};

@@ -393,7 +393,7 @@ TEST(AeroPowerInput, AveragesTheAnemometerAroundEachSampleAndLosesNone) {
   }
   // AND every sample leaves, in order, a quarter of a second late
   ASSERT_EQ(t_out.size(), 975u);
-  for (std::size_t i = 0; i < t_out.size(); ++i) EXPECT_NEAR(t_out[i], i * 0.01, 1e-9);
+  for (std::size_t i = 0; i < t_out.size(); ++i) EXPECT_NEAR(t_out[i], static_cast<double>(i) * 0.01, 1e-9);
 }
 
 TEST(IceDetector, ConfigRejectsUnknownKeysAndBadRanges) {

@@ -35,12 +35,12 @@ void run(const PitchDiagConfig& cfg, double noise, const std::string& fault, int
     blades.emplace_back(sc);
   }
   PitchDiagnoser d(cfg);
-  std::vector<PitchEvent> ev;
+  std::vector<FaultEvent> ev;
   FrameSample s;
   bool first_seen = false;
   const long n = std::lround(t_end / 0.01);
   for (long k = 0; k < n; ++k) {
-    const double t = k * 0.01;
+    const double t = static_cast<double>(k) * 0.01;
     s.sequence = k;
     s.t = t;
     double wn[3], z[3];
@@ -54,7 +54,7 @@ void run(const PitchDiagConfig& cfg, double noise, const std::string& fault, int
           if (g.name == fault) wn[i] = g.omega_n, z[i] = g.zeta;
     }
     ev.clear();
-    d.update(s, ev);
+    d.update(s, false, ev);
     for (const auto& e : ev) {
       if (!e.raised) continue;
       const bool right = fb >= 0 && e.component == "pitch_actuator_" + std::to_string(fb + 1) &&

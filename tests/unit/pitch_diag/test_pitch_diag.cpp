@@ -30,7 +30,7 @@ const Signature& table1(const std::string& name) {
 struct Rig {
   std::vector<synth::SyntheticBlade> blades;
   PitchDiagnoser diag;
-  std::vector<PitchEvent> events;  // all events so far
+  std::vector<FaultEvent> events;  // all events so far
   PitchEstimate last;
   uint64_t seq = 0;
   double t = 0.0;
@@ -48,7 +48,7 @@ struct Rig {
   /// Runs until `t_end`; `edit` may change the sample before it is fed.
   void run(double t_end, const Truth& truth, const std::function<void(FrameSample&)>& edit = nullptr) {
     FrameSample s;
-    std::vector<PitchEvent> ev;
+    std::vector<FaultEvent> ev;
     while (t < t_end - 1e-9) {
       s.sequence = seq++;
       s.t = t;
@@ -59,7 +59,7 @@ struct Rig {
       const FrameSample clean = s;
       if (edit) edit(s);
       ev.clear();
-      diag.update(s, ev);
+      diag.update(s, false, ev);
       events.insert(events.end(), ev.begin(), ev.end());
       diag.estimate_due(last);
       for (int i = 0; i < 3; ++i) {

@@ -17,7 +17,7 @@ using namespace windfdi::pitch_diag;
 namespace {
 
 struct PlantRun {
-  std::vector<PitchEvent> events;
+  std::vector<FaultEvent> events;
   PitchEstimate last;
 };
 
@@ -40,11 +40,11 @@ PlantRun run_plant(double wind, double seconds, const std::vector<plant::FaultSp
     diag.set_context(tracker.context(), -100.0);
   }
   PlantRun r;
-  std::vector<PitchEvent> ev;
+  std::vector<FaultEvent> ev;
   const auto n = static_cast<long>(seconds * 100.0);
   for (long k = 0; k < n; ++k) {
     ev.clear();
-    diag.update(sim.step(in), ev);
+    diag.update(sim.step(in), false, ev);
     r.events.insert(r.events.end(), ev.begin(), ev.end());
     diag.estimate_due(r.last);
   }
@@ -128,10 +128,10 @@ TEST(PitchDiagPlant, ASafeStopIsNotALeak) {
   t.wind.turbulence_intensity = 0.12;
   plant::TurbineSim sim(TurbineParams{}, t, {}, 74, 100.0);
   PitchDiagnoser diag{PitchDiagConfig{}};
-  std::vector<PitchEvent> events;
+  std::vector<FaultEvent> events;
   plant::ControlInput stop;
   stop.mode = plant::OperatingMode::kSafeStop;
-  for (int k = 0; k < 200 * 100; ++k) diag.update(k < 100 * 100 ? sim.step() : sim.step(stop), events);
+  for (int k = 0; k < 200 * 100; ++k) diag.update(k < 100 * 100 ? sim.step() : sim.step(stop), false, events);
   // THEN the ramp is recognised as rate-limited (not identified) and nothing is raised
   for (int b = 0; b < 3; ++b) EXPECT_GT(diag.saturated(b), 500u) << b;
   EXPECT_TRUE(events.empty()) << events.front().component << " " << events.front().fault << " at "
@@ -156,7 +156,7 @@ TEST(PitchDiagPlant, ADeratedActuatorIsJudgedWithItsRateLimit) {
   // AND a leak on a derated blade is still found as a leak
   for (double wind : {16.0, 20.0}) {
     const auto leak = run_plant(wind, 160.0, {actuator_fault(2, "hydraulic_leakage", 100.0)}, 72, 5.0);
-    const PitchEvent* first = nullptr;
+    const FaultEvent* first = nullptr;
     for (const auto& e : leak.events)
       if (e.raised && e.t > 100.0 && !first) first = &e;
     ASSERT_NE(first, nullptr) << wind;
@@ -178,7 +178,7 @@ TEST(PitchDiagPlant, BurstsOfLostSamplesRaiseNothing) {
   std::mt19937_64 rng(7);
   std::exponential_distribution<double> every(0.5);
   std::uniform_int_distribution<int> burst(1, 30);
-  std::vector<PitchEvent> events;
+  std::vector<FaultEvent> events;
   double next_gap = every(rng);
   for (long k = 0; k < 300 * 100; ++k) {
     const FrameSample& s = sim.step();
@@ -188,7 +188,7 @@ TEST(PitchDiagPlant, BurstsOfLostSamplesRaiseNothing) {
       next_gap = s.t + lost * 0.01 + every(rng);
       continue;
     }
-    diag.update(s, events);
+    diag.update(s, false, events);
   }
   ASSERT_GT(diag.gaps(), 100u);
   // THEN nothing is raised (before the level filters continued across a gap, the restarted filters put the

@@ -101,7 +101,7 @@ std::pair<double, double> fit_second_order(const std::vector<double>& y, double 
       double sse = 0.0;
       const double wd = w * std::sqrt(1 - z * z);
       for (std::size_t k = 0; k < y.size(); k += 4) {
-        const double t = k * h;
+        const double t = static_cast<double>(k) * h;
         const double ya =
             1 - std::exp(-z * w * t) * (std::cos(wd * t) + z / std::sqrt(1 - z * z) * std::sin(wd * t));
         sse += (y[k] - ya) * (y[k] - ya);
