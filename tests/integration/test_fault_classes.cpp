@@ -288,6 +288,7 @@ TEST(HealthyFarm, EveryServiceOnTheHealthyScenarioRaisesNothing) {
   for (const char* exe :
        {"windfdi-blade-load", "windfdi-sensor-bias", "windfdi-pitch-diag", "windfdi-ice-detect"})
     farm.service(exe);
+  auto& health = farm.start({bin("windfdi-test-peer"), "health", "--timeout", "300"}, "health");
   std::this_thread::sleep_for(std::chrono::seconds(2));
   auto& plant = farm.start({bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/healthy.yaml", "--rate",
                             "10", "--duration", "900", "--progress", "0"},
@@ -303,6 +304,18 @@ TEST(HealthyFarm, EveryServiceOnTheHealthyScenarioRaisesNothing) {
     EXPECT_EQ(c["mode"], 0) << c.dump();
     EXPECT_EQ(c["ipc_source"], 0) << c.dump();
   }
+  // AND every service diagnosed every turbine: 15 minutes of 100 Hz samples in, almost none rejected
+  std::map<std::pair<std::string, std::string>, json> latest;  // (service, turbine) -> last health
+  for (const auto& j : json_lines(health.stdout_text()))
+    if (j.contains("service")) latest[{j["service"], j["turbine_id"]}] = j;
+  for (const char* service : {"blade_load", "sensor_bias", "pitch_diag", "ice_detect"})
+    for (const char* turbine : {"WT01", "WT02", "WT03"}) {
+      const auto it = latest.find({service, turbine});
+      ASSERT_NE(it, latest.end()) << service << " " << turbine << " sent no health";
+      const auto in = it->second["samples_in"].get<uint64_t>();
+      EXPECT_GT(in, 80000u) << it->second.dump();
+      EXPECT_LT(it->second["samples_rejected"].get<uint64_t>(), in / 100) << it->second.dump();
+    }
 }
 
 TEST(SilentPlant, AServiceReportsItsInputStreamsMissedDeadlinesInItsHealth) {

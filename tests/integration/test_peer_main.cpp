@@ -208,6 +208,7 @@ int health(const CommonOptions& common, double timeout) {
                                   {"service", h.service()},
                                   {"state", static_cast<int>(h.state())},
                                   {"samples_in", h.samples_in()},
+                                  {"samples_rejected", h.samples_rejected()},
                                   {"deadlines_missed", h.deadlines_missed()},
                                   {"samples_lost", h.samples_lost()},
                                   {"incompatible_qos", h.incompatible_qos()}}

@@ -533,6 +533,9 @@ TEST(PlantHealthy, AHealthyHourRaisesNothing) {
           static_cast<unsigned long long>(r.gated_revolutions), r.max_ratio[kModelChannel],
           r.max_ratio[kMeanChannel]);
       EXPECT_EQ(raised, 0) << wind << " " << seed;
+      // ... and the tests ran: both residuals' statistics were computed
+      EXPECT_GT(r.max_ratio[kModelChannel], 0.05) << wind << " " << seed;
+      EXPECT_GT(r.max_ratio[kMeanChannel], 0.05) << wind << " " << seed;
     }
 }
 

@@ -116,7 +116,9 @@ struct PlantRun {
   double rms = 0, max = 0;
   double max_over = 0;  // largest relative overestimate after 300 s
   std::vector<FaultEvent> events;
-  uint64_t suspect = 0;  // samples held for a suspect input
+  uint64_t suspect = 0;   // samples held for a suspect input
+  int estimates = 0;      // inertia estimates compared after 300 s
+  uint64_t rejected = 0;  // samples the detector refused
 };
 
 PlantRun run_plant(double wind, int seconds, bool model_power,
@@ -159,6 +161,8 @@ PlantRun run_plant(double wind, int seconds, bool model_power,
   }
   r.rms = std::sqrt(r.rms / std::max(n, 1));
   r.suspect = det.suspect_samples();
+  r.estimates = n;
+  r.rejected = det.rejected();
   return r;
 }
 
@@ -187,6 +191,9 @@ TEST(IceDetector, AHealthyHourRaisesNothing) {
     const auto r = run_plant(wind, 3600, true, {}, 0.0, 100 + static_cast<uint64_t>(wind));
     EXPECT_TRUE(r.events.empty()) << wind << " m/s: " << r.events.size() << " events, first "
                                   << (r.events.empty() ? "" : r.events[0].fault);
+    // ... and the detector ran: an inertia estimate about every second after 300 s, nothing rejected
+    EXPECT_GT(r.estimates, 3000) << wind;
+    EXPECT_EQ(r.rejected, 0u) << wind;
   }
 }
 
