@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include "windfdi_services.hpp"
+
 namespace windfdi {
 
 const std::vector<std::string>& fault_class_names() {
@@ -36,7 +38,7 @@ const std::vector<std::string>& component_names() {
 }
 
 const std::vector<std::string>& service_names() {
-  static const std::vector<std::string> n = {"blade_load", "sensor_bias", "pitch_diag", "ice_detect"};
+  static const std::vector<std::string> n = {WINDFDI_DIAGNOSTIC_SERVICE_NAMES};  // services/services.list
   return n;
 }
 

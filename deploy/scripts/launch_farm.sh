@@ -43,9 +43,10 @@ stop() {
 trap stop EXIT INT TERM
 
 echo "launch_farm: domain $domain, scenario $scenario at ${rate}x, logs in $work/logs"
-for service in blade-load sensor-bias pitch-diag ice-detect; do
+# Every diagnostic service of the registry (services/services.list); a listed one not built is an error.
+for service in $(awk '!/^[[:space:]]*(#|$)/ {gsub("_", "-", $1); print $1}' "$top/services/services.list"); do
   exe="$bin/windfdi-$service"
-  if [ ! -x "$exe" ]; then echo "launch_farm: $exe not built, skipped" >&2; continue; fi
+  if [ ! -x "$exe" ]; then echo "launch_farm: $exe not built (build first: deploy/scripts/setup.sh)" >&2; exit 1; fi
   cfg="$top/deploy/config/${service//-/_}.yaml"
   args=("${security[@]}")
   [ -f "$cfg" ] && args+=(--config "$cfg")

@@ -15,7 +15,7 @@
 #   OUT_DIR/governance.xml, governance.p7s   domain rules, S/MIME-signed by the CA
 #   OUT_DIR/<role>/cert.pem, key.pem      identity certificate (CN=windfdi-<role>) and its ECDSA P-256 key
 #   OUT_DIR/<role>/permissions.xml, permissions.p7s   the role's grant, S/MIME-signed by the CA
-# Roles: plant blade_load sensor_bias pitch_diag ice_detect arbiter farm
+# Roles: plant, each diagnostic service of services/services.list, arbiter, farm
 # A second run into another directory makes an unrelated ("foreign") farm: its credentials are refused here.
 set -euo pipefail
 
@@ -86,21 +86,29 @@ XML
 sign "$out/governance.xml" "$out/governance.p7s"
 
 # ---- roles: what each may publish and subscribe (topic expressions are fnmatch patterns) ----
+# The diagnostic services and their estimate topics: the registry (source tree or installed beside this script).
+here=$(cd "$(dirname "$0")" && pwd)
+registry=""
+for f in "$here/../../services/services.list" "$here/../services.list"; do
+  [ -f "$f" ] && { registry=$f; break; }
+done
+[ -n "$registry" ] || { echo "make_credentials: services.list not found beside $here" >&2; exit 2; }
 declare -A PUB SUB
 PUB[plant]="wt/frame wt/lidar wt/health"
 SUB[plant]="wt/control/config wt/estimate/sensor_bias"
-for svc in blade_load sensor_bias pitch_diag ice_detect; do
+services=()
+while read -r svc topic _; do
+  case $svc in '' | '#'*) continue ;; esac
+  [ -n "$topic" ] || { echo "make_credentials: $registry: no estimate topic for $svc" >&2; exit 2; }
+  services+=("$svc")
+  PUB[$svc]="$topic wt/fault wt/health"
   SUB[$svc]="wt/frame wt/lidar wt/control/config wt/fault"
-done
-PUB[blade_load]="wt/estimate/blade_load wt/fault wt/health"
-PUB[sensor_bias]="wt/estimate/sensor_bias wt/fault wt/health"
-PUB[pitch_diag]="wt/estimate/pitch wt/fault wt/health"
-PUB[ice_detect]="wt/estimate/inertia wt/fault wt/health"
+done <"$registry"
 PUB[arbiter]="wt/control/config wt/health"
 SUB[arbiter]="wt/fault wt/health wt/estimate/* wt/fault_ack wt/control/config"
 PUB[farm]="wt/fault_ack"
 SUB[farm]="wt/*"
-roles=(plant blade_load sensor_bias pitch_diag ice_detect arbiter farm)
+roles=(plant "${services[@]}" arbiter farm)
 if [ $bench = 1 ]; then PUB[bench]="bench/*"; SUB[bench]="bench/*"; roles+=(bench); fi
 
 # A day of slack for clocks of other hosts that run behind.

@@ -13,6 +13,8 @@
 # Binaries: $WINDFDI_BIN (default build/bin); system_latency from $SYSTEM_LATENCY_BIN or $WINDFDI_BIN.
 set -euo pipefail
 top=$(cd "$(dirname "$0")/../.." && pwd)
+# The diagnostic services of the registry, as executable suffixes (blade-load, ...).
+services=$(awk '!/^[[:space:]]*(#|$)/ {gsub("_", "-", $1); print $1}' "$top/services/services.list")
 bin=${WINDFDI_BIN:-$top/build/bin}
 meter=${SYSTEM_LATENCY_BIN:-$bin/system_latency}
 secs=${1:-30}; shift || true
@@ -47,7 +49,7 @@ for n in "${list[@]}"; do
     for i in $(seq 1 "$n"); do printf '  - {id: T%03d, wind: {mean: %d.0, turbulence_intensity: 0.1}}\n' "$i" $(( 8 + i % 12 )); done
   } > "$work/farm$n.yaml"
   declare -A pid_of=()
-  for service in blade-load sensor-bias pitch-diag ice-detect; do
+  for service in $services; do
     "$bin/windfdi-$service" --config "$top/deploy/config/${service//-/_}.yaml" --log-level warn \
       > "$work/$service.$n.log" 2>&1 &
     pids+=($!); pid_of[$service]=$!
@@ -72,7 +74,7 @@ for n in "${list[@]}"; do
   sed 's/^/  /' "$work/health.$n.out"
   total=0
   line="  CPU % of one core (per turbine):"
-  for k in plant blade-load sensor-bias pitch-diag ice-detect arbiter; do
+  for k in plant $services arbiter; do
     c=$(python3 -c "print(round(100*(${b[$k]}-${a[$k]})/$ticks/($tb-$ta),1))")
     total=$(python3 -c "print(round($total+$c,1))")
     line+=" $k $c ($(python3 -c "print(round($c/$n,2))"))"

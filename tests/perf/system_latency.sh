@@ -18,6 +18,8 @@
 # Binaries: $WINDFDI_BIN (default build/bin); system_latency from $SYSTEM_LATENCY_BIN or $WINDFDI_BIN.
 set -euo pipefail
 top=$(cd "$(dirname "$0")/../.." && pwd)
+# The diagnostic services of the registry, as executable suffixes (blade-load, ...).
+services=$(awk '!/^[[:space:]]*(#|$)/ {gsub("_", "-", $1); print $1}' "$top/services/services.list")
 bin=${WINDFDI_BIN:-$top/build/bin}
 meter=${SYSTEM_LATENCY_BIN:-$bin/system_latency}
 n=${1:-10}; secs=${2:-120}; period=${3:-6}
@@ -56,7 +58,7 @@ for i in range(n):
 EOF
 sed 's/^clear_hold:.*/clear_hold: 1.0/' "$top/deploy/config/arbiter.yaml" > "$work/arbiter.yaml"
 
-for service in blade-load sensor-bias pitch-diag ice-detect; do
+for service in $services; do
   "$bin/windfdi-$service" --config "$top/deploy/config/${service//-/_}.yaml" --log-level warn \
     > "$work/$service.log" 2>&1 &
   pids+=($!)
