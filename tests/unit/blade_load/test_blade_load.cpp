@@ -261,6 +261,15 @@ TEST(PlantDetection, AbruptTenPercentGainDetectedWithinFiveSeconds) {
     }
 }
 
+// "component fault raised@t (detail); ..." of every event, for messages.
+std::string event_sequence(const std::vector<FaultEvent>& events) {
+  std::string seq;
+  for (const auto& e : events)
+    seq += e.component + " " + e.fault + (e.raised ? " raised@" : " cleared@") +
+           std::to_string(static_cast<int>(e.t)) + " (" + e.detail + "); ";
+  return seq;
+}
+
 TEST(PlantDetection, APersistentGainStaysAbruptForMinutes) {
   // GIVEN a 10 % gain on blade 2 from 250 s that stays, 16 m/s, TI 0.08, shear 0.25, for 450 s after it
   for (uint64_t seed : {7u, 21u, 31u}) {
@@ -269,10 +278,7 @@ TEST(PlantDetection, APersistentGainStaysAbruptForMinutes) {
     const auto r = run_plant(16.0, 0.08, 0.25, 0.0, 700, {f}, seed, config(), LoadTable::load_csv(kTable));
     // THEN one event: sensor_abrupt raised on blade 2, never cleared nor re-classified as intermittent while
     // turbulence moves the statistic around its critical value
-    std::string seq;
-    for (const auto& e : r.events)
-      seq += e.component + " " + e.fault + (e.raised ? " raised@" : " cleared@") +
-             std::to_string(static_cast<int>(e.t)) + " (" + e.detail + "); ";
+    const std::string seq = event_sequence(r.events);
     std::printf("[measured] persistent gain seed %llu: %s\n", static_cast<unsigned long long>(seed),
                 seq.c_str());
     ASSERT_EQ(r.events.size(), 1u) << seed << ": " << seq;
@@ -288,10 +294,7 @@ TEST(PlantDetection, DriftOfOnePercentPerMinuteDetectedBeforeFivePercentAndHeld)
     auto f = fault("blade_moment_1", "drift", 300.0);
     f.rate = 900.0;
     const auto r = run_plant(16.0, 0.08, 0.25, 0.0, 700, {f}, seed, config(), LoadTable::load_csv(kTable));
-    std::string seq;
-    for (const auto& e : r.events)
-      seq += e.component + " " + e.fault + (e.raised ? " raised@" : " cleared@") +
-             std::to_string(static_cast<int>(e.t)) + " (" + e.detail + "); ";
+    const std::string seq = event_sequence(r.events);
     std::printf("[measured] drift seed %llu: %s\n", static_cast<unsigned long long>(seed), seq.c_str());
     // THEN one event: sensor_drift raised on blade 1 before 5 % (300 s), and held while the drift grows (the
     // drift's own effect on the other blades must not read as noise that hides it again)
