@@ -12,6 +12,7 @@
 #include "Estimates.h"
 #include "LidarFrame.h"
 #include "TurbineFrame.h"
+#include "configuration_lease.hpp"
 #include "dds/convert.hpp"
 #include "dds/endpoints.hpp"
 #include "deploy_dir.hpp"
@@ -61,17 +62,13 @@ struct Bus {
 };
 
 struct TurbineRun {
+  explicit TurbineRun(double lease) : control(lease) {}
   std::unique_ptr<TurbineSim> sim;
   windfdi::TurbineFrame frame;
-  ControlInput input;
-  double config_received = -1.0;  // wall time of the last configuration, < 0: none yet
+  ConfigurationLease control;
   uint64_t config_revision = 0;
   std::string arbiter;
-  // The writer of the applied configuration while its liveliness holds: the lease runs only once it is lost
-  // or silent, so a configuration sample delayed under load cannot end a live arbiter's configuration.
-  eprosima::fastrtps::rtps::InstanceHandle_t config_writer;
-  bool config_writer_alive = false;
-  double corrected_generator_speed = kNaN, corrected_at = -1.0;
+  eprosima::fastrtps::rtps::InstanceHandle_t config_writer;  // of the applied configuration
   uint64_t lidar_sequence = 0;
   std::vector<int> fault_column;  // per own fault: index into the recording's fault columns
 };
@@ -104,7 +101,7 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
   for (const auto& t : sc.turbines) {
     if (!only.empty() && !only.count(t.id)) continue;
     ids.push_back(t.id);
-    auto& run = runs[t.id];
+    auto& run = runs.try_emplace(t.id, o.config_lease).first->second;
     const auto faults = sc.faults_of(t.id);
     run.sim = std::make_unique<TurbineSim>(sc.turbine, t, faults, sc.seed, sc.sample_rate);
     run.frame.turbine_id(t.id);
@@ -162,44 +159,32 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
         if (it == runs.end()) continue;
         TurbineRun& r = it->second;
         r.config_writer = config_meta[i].writer;
-        r.config_writer_alive = true;
         if (c.revision() != r.config_revision || c.arbiter_id() != r.arbiter)
           spdlog::info("{}: applying configuration r{} from {}: mode {}, ipc {}", c.turbine_id(),
                        c.revision(), c.arbiter_id(), static_cast<int>(c.mode()),
                        static_cast<int>(c.ipc_source()));
-        r.input = to_input(c);
-        r.config_received = now;
+        r.control.received(to_input(c), now);
         r.config_revision = c.revision();
         r.arbiter = c.arbiter_id();
       }
       for (const auto& ev : dds->configs.take_liveliness_events())
         for (auto& [id, r] : runs)
-          if (r.config_writer == ev.writer) r.config_writer_alive = ev.alive;
+          if (r.config_writer == ev.writer) r.control.writer_liveliness(ev.alive);
       biases.clear();
       dds->bias.take(biases);
       for (const auto& b : biases) {
         auto it = runs.find(b.turbine_id());
         if (it == runs.end()) continue;
-        it->second.corrected_generator_speed = b.corrected_generator_speed();
-        it->second.corrected_at = now;
+        it->second.control.corrected_generator_speed(b.corrected_generator_speed(), now);
       }
     }
     for (const auto& id : ids) {
-      TurbineRun& r = runs[id];
-      // The arbiter's configuration holds while its writer is alive and for a lease after that; then the
-      // defaults, but a safe stop stays stopped.
-      if (r.config_writer_alive && r.config_received >= 0.0) r.config_received = now;
-      if (r.config_received >= 0.0 && now - r.config_received > o.config_lease) {
-        const bool stopped = r.input.mode == OperatingMode::kSafeStop;
+      TurbineRun& r = runs.at(id);
+      bool expired = false;
+      const ControlInput in = r.control.input(now, &expired);
+      if (expired)
         spdlog::warn("{}: no configuration for {:.1f} s (arbiter lost): back to defaults{}", id,
-                     o.config_lease, stopped ? ", staying in safe stop" : "");
-        r.input = ControlInput{};
-        if (stopped) r.input.mode = OperatingMode::kSafeStop;
-        r.config_received = -1.0;
-      }
-      ControlInput in = r.input;
-      // Corrected measurements only while they are fresh (sensor_bias alive).
-      in.corrected_generator_speed = (now - r.corrected_at < 1.0) ? r.corrected_generator_speed : kNaN;
+                     r.control.lease(), r.control.stopped() ? ", staying in safe stop" : "");
       FrameSample s = r.sim->step(in);
       if (!o.record_truth) s.aero_torque = s.aero_power = kNaN;  // not measured on a real turbine
       if (recorder) {
