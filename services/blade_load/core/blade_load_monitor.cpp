@@ -322,23 +322,24 @@ void BladeLoadMonitor::update_noise(const BladeChannels& x) {
   // differently the three blades sample the turbulence (low wind, where the mean load is small, TI 0.155:
   // one-revolution values three times the spread learned at start-up for minutes, and four false reports in
   // 2000 s).
-  BladeChannels t, unit;
+  BladeChannels deviation, unit;
   for (int b = 0; b < 3; ++b)
     for (int c = 0; c < kChannels; ++c) {
       const HealthyStats& h = healthy_[b][c];
-      t[b][c] = h.learned && std::isfinite(x[b][c]) ? h.outlier_t(x[b][c]) : kNaN;
+      deviation[b][c] = h.learned && std::isfinite(x[b][c]) ? x[b][c] - h.mean : kNaN;
       unit[b][c] = h.outlier_sd();
     }
-  follow_noise(t, unit, noise_);
+  follow_noise(deviation, unit, noise_);
 }
 
-void BladeLoadMonitor::follow_noise(const BladeChannels& t, const BladeChannels& unit,
+void BladeLoadMonitor::follow_noise(const BladeChannels& deviation, const BladeChannels& unit,
                                     std::array<NoiseLevel, kChannels>& level) const {
   // The present level is the smallest of the three pairs of blades' mean square differences: a failed gauge
   // is one blade and moves both pairs it is in, never the third. A pair's difference is taken in the
-  // residual's own units (t times the blade's unit, the test's denominator) over the pair's mean unit: a
-  // fault on blade 1 moves the cross-blade residuals of blades 2 and 3 by the same -delta / 2, but their
-  // t-values by different amounts (their learned spreads and autocorrelations differ), and read in t a 1
+  // residual's own units (each blade's deviation from its healthy mean) over the pair's mean unit (the
+  // tests' denominators): a fault on blade 1 moves the cross-blade residuals of blades 2 and 3 by the same
+  // -delta / 2, but their t-values by different amounts (their learned spreads and autocorrelations differ),
+  // and read in t a 1
   // %/min drift inflated its own noise level 2.5-fold in 300 s (found once in two runs). Each pair is
   // followed on its own (the smallest of three followed levels, not the level of the smallest per
   // revolution): a 10-revolution window mean barely changes from one revolution to the next, so a
@@ -349,13 +350,14 @@ void BladeLoadMonitor::follow_noise(const BladeChannels& t, const BladeChannels&
   if (cfg_.noise_revolutions <= 0) return;
   for (int c = 0; c < kChannels; ++c) {
     if (c == kWitnessChannel) continue;  // it only confirms the LIDAR residual
-    if (!(std::isfinite(t[0][c]) && std::isfinite(t[1][c]) && std::isfinite(t[2][c]))) continue;
+    if (!(std::isfinite(deviation[0][c]) && std::isfinite(deviation[1][c]) && std::isfinite(deviation[2][c])))
+      continue;
     NoiseLevel& L = level[c];
     double spread = std::numeric_limits<double>::infinity();
     for (int i = 0; i < 3; ++i) {
       const int j = (i + 1) % 3;
       const double u = std::sqrt(0.5 * (unit[i][c] * unit[i][c] + unit[j][c] * unit[j][c]));
-      const double d = (t[i][c] * unit[i][c] - t[j][c] * unit[j][c]) / u;
+      const double d = (deviation[i][c] - deviation[j][c]) / u;
       if (L.pair_var[i] < 0) L.pair_var[i] = kPairVariance[c];
       L.pair_var[i] += (d * d - L.pair_var[i]) / cfg_.noise_revolutions;
       spread = std::min(spread, L.pair_var[i]);
@@ -405,7 +407,6 @@ void BladeLoadMonitor::revolution(double t, std::vector<FaultEvent>& events) {
   // Moving-window mean test (drift), once per revolution on non-overlapping windows.
   BladeChannels dt{}, wm{}, drift_unit{};
   for (auto& r : dt) r.fill(kNaN);
-  for (auto& r : drift_unit) r.fill(1.0);
   for (auto& r : wm) r.fill(kNaN);
   const int W = cfg_.drift_window;
   for (int b = 0; b < 3; ++b) {
@@ -429,7 +430,7 @@ void BladeLoadMonitor::revolution(double t, std::vector<FaultEvent>& events) {
   }
   // The window means' own noise level (faster turbulence raises the one-revolution spread more than a
   // 10-revolution mean's: scaling the drift test by the former missed half the drifts of the suite).
-  follow_noise(dt, drift_unit, drift_noise_);
+  follow_noise(wm, drift_unit, drift_noise_);
   for (int b = 0; b < 3; ++b)
     for (int c = 0; c < kChannels; ++c) dt[b][c] /= drift_noise_[c].scale;
   for (int b = 0; b < 3; ++b) {

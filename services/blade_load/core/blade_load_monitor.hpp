@@ -44,12 +44,12 @@ struct MonitorConfig {
       1.1;                   ///< and at least this many revolutions (0..20): a single-revolution transient
                              ///< stays in the one-revolution window for exactly one revolution
   double onset_ratio = 0.5;  ///< a run of exceedance starts above this share of the critical value (0.1..1)
-  double noise_revolutions =
-      20.0;                  ///< revolutions over which each residual's present noise level is followed
-                             ///< (0: off): its t-values are divided by max(1, that level / the learned
-                             ///< one), read from the closest pair of blades, which one fault leaves alone
-  double fast_ratio = 1.25;  ///< a large step: above this multiple of the critical value (0: off) ...
-  double fast_confirm_time = 1.0;  ///< ... continuously for this long (s) raises before confirm_revolutions
+  double noise_revolutions = 20.0;  ///< revolutions over which each residual's present noise level is
+                                    ///< followed (0: off): its t-values are divided by max(1, that level /
+                                    ///< the learned one), read from the quietest of the three pairs of
+                                    ///< blades, which one fault leaves alone
+  double fast_ratio = 1.25;         ///< a large step: above this multiple of the critical value (0: off) ...
+  double fast_confirm_time = 1.0;   ///< ... continuously for this long (s) raises before confirm_revolutions
   // Steep-surface gate: where k_M(lambda, pitch) changes by more than gate_max_sensitivity (relative) within
   // +/- gate_pitch_margin deg of a blade's (low-passed) measured pitch, neither the table (0.5 deg nodes) nor
   // the pitch measurement (0.2 deg noise) determines the load: the plant's Heier Cp is singular at -1 deg
@@ -237,7 +237,7 @@ class BladeLoadMonitor {
   };
   std::array<NoiseLevel, kChannels> noise_{},
       drift_noise_{};  // one-revolution values; the drift test's window means
-  void follow_noise(const BladeChannels& t, const BladeChannels& unit,
+  void follow_noise(const BladeChannels& deviation, const BladeChannels& unit,
                     std::array<NoiseLevel, kChannels>& level) const;
   double channel_t(int blade, int channel, double x) const;
   void update_noise(const BladeChannels& x);
