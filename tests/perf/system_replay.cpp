@@ -9,11 +9,13 @@
 #include <CLI/CLI.hpp>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 
 #include "blade_load_service.hpp"
+#include "configuration_lease.hpp"
 #include "decision.hpp"
 #include "deploy_dir.hpp"
 #include "ice_service.hpp"
@@ -40,23 +42,19 @@ struct Turbine {
   arbiter::Configuration last;
   bool have_last = false;
   double next_evaluation = 0.0;
-  double corrected_generator_speed = kNaN;  // rad/s, sensor_bias's latest estimate
-  double corrected_at = -1e300;
+  // What the plant applies, by the plant's own rule (the in-process arbiter never falls silent: no lease).
+  plant::ConfigurationLease control{std::numeric_limits<double>::infinity()};
 };
 
 /// What windfdi-plant does with a configuration (plant_node.cpp's to_input), for the closed loop.
-plant::ControlInput control_input(const Turbine& t, double now) {
+plant::ControlInput control_input(const arbiter::Configuration& c) {
   plant::ControlInput in;
-  if (!t.have_last) return in;
-  const auto& c = t.last;
   in.mode = c.mode;  // one definition (common/control_modes.hpp)
   in.ipc_source = c.ipc_source;
   in.pitch_rate_limit = c.pitch_rate_limit;
   in.use_corrected_generator_speed = c.use_corrected_generator_speed;
   in.inertia = c.inertia;
   if (c.ice_mode == arbiter::IceMode::kStop) in.mode = plant::OperatingMode::kSafeStop;
-  // Corrected measurements only while they are fresh, as in the plant.
-  in.corrected_generator_speed = now - t.corrected_at < 1.0 ? t.corrected_generator_speed : kNaN;
   return in;
 }
 
@@ -140,8 +138,7 @@ int main(int argc, char** argv) {
         std::vector<std::string> values;
         if (d->estimate_due(values)) {
           if (&svc == &bias) {
-            turbine.corrected_generator_speed = std::stod(values.at(bias_corrected));
-            turbine.corrected_at = s.t;
+            turbine.control.corrected_generator_speed(std::stod(values.at(bias_corrected)), s.t);
           } else if (&svc == &ice) {
             const double inertia = std::stod(values.at(ice_inertia));
             if (std::isfinite(inertia) && inertia > 0) turbine.arbiter.on_inertia(inertia);
@@ -171,6 +168,7 @@ int main(int argc, char** argv) {
           write("config", s.t, config_json(c, id, s.t));
           turbine.last = c;
           turbine.have_last = true;
+          turbine.control.received(control_input(c), s.t);
         }
       }
       return ok;
@@ -187,7 +185,7 @@ int main(int argc, char** argv) {
         for (auto& sim : sims) {
           auto it = turbines.find(sim->id());
           const plant::ControlInput in =
-              it == turbines.end() ? plant::ControlInput{} : control_input(it->second, sim->time());
+              it == turbines.end() ? plant::ControlInput{} : it->second.control.input(sim->time());
           FrameSample s = sim->step(in);
           // Not measured on a real turbine (windfdi-plant records them only as truth).
           s.aero_torque = s.aero_power = kNaN;
