@@ -138,7 +138,7 @@ int run_node(const ServiceSpec& spec, const CommonOptions& common) {
     return feed(
         spec, id, *d, s, gap, [&](FaultEvent& e) { node.publish(e); },
         [&] {
-          if (publish) publish(id, s.t, *d);
+          if (publish) publish(id, *d);
         });
   });
   return kExitOk;

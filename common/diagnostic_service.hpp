@@ -37,7 +37,7 @@ class TurbineDiagnoser {
 };
 
 /// Publishes a turbine's current estimate on DDS (created once per process with the participant).
-using EstimatePublisher = std::function<void(const std::string& turbine_id, double t, TurbineDiagnoser& d)>;
+using EstimatePublisher = std::function<void(const std::string& turbine_id, TurbineDiagnoser& d)>;
 
 struct ServiceSpec {
   std::string name;                           ///< canonical service name, e.g. "pitch_diag"
@@ -112,10 +112,10 @@ ServiceSpec service_spec(TypedService<Core, Estimate, Idl> typed) {
   spec.make = [s](const std::string& id) -> std::unique_ptr<TurbineDiagnoser> {
     return std::make_unique<Diagnoser>(s->make(id), s->fields);
   };
-  spec.make_publisher = [s](bus::Participant& participant) -> EstimatePublisher {
+  spec.make_publisher = [](bus::Participant& participant) -> EstimatePublisher {
     auto writer = std::make_shared<bus::Writer<Idl>>(participant);
     // Every diagnoser this spec runs was made by spec.make above: a Diagnoser.
-    return [s, writer](const std::string& id, double, TurbineDiagnoser& d) {
+    return [writer](const std::string& id, TurbineDiagnoser& d) {
       writer->write(static_cast<Diagnoser&>(d).sample(id));
     };
   };

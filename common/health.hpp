@@ -30,7 +30,6 @@ class HealthReporter {
   struct StreamStatus {
     uint64_t deadlines_missed = 0, samples_lost = 0, incompatible_qos = 0;
   };
-  void set_streams(const StreamStatus& s) { streams_ = s; }
   void add_streams(const bus::EndpointStatus& e) {
     streams_.deadlines_missed += e.deadline_missed.load();
     streams_.samples_lost += e.samples_lost.load();

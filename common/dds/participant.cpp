@@ -7,9 +7,7 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <filesystem>
-#include <memory>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 
 #include "deploy_dir.hpp"

@@ -14,10 +14,9 @@
 #include <cstring>
 #include <ctime>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <set>
-#include <sstream>
-#include <stdexcept>
 #include <vector>
 
 #include "windfdi_services.hpp"
