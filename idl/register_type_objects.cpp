@@ -1,8 +1,8 @@
-// Registers the TypeObjects of every windfdi topic type once (needed by the SQL content filter).
+// Registers the TypeObjects of the idl/ topic types once (the SQL content filter of the sensor streams needs
+// them; the services' estimate topics are not content-filtered).
 #include <mutex>
 
 #include "ControlConfigurationTypeObject.h"
-#include "EstimatesTypeObject.h"
 #include "FaultAckTypeObject.h"
 #include "FaultReportTypeObject.h"
 #include "LidarFrameTypeObject.h"
@@ -18,7 +18,6 @@ void register_type_objects() {
     registerTypesTypes();
     registerTurbineFrameTypes();
     registerLidarFrameTypes();
-    registerEstimatesTypes();
     registerFaultReportTypes();
     registerServiceHealthTypes();
     registerControlConfigurationTypes();

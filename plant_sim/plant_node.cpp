@@ -9,7 +9,6 @@
 #include <set>
 
 #include "ControlConfiguration.h"
-#include "Estimates.h"
 #include "LidarFrame.h"
 #include "TurbineFrame.h"
 #include "configuration_lease.hpp"
@@ -18,6 +17,7 @@
 #include "deploy_dir.hpp"
 #include "health.hpp"
 #include "replay_csv.hpp"
+#include "sensor_bias_estimate_topic.hpp"
 #include "turbine_sim.hpp"
 
 namespace windfdi::plant {

@@ -1,8 +1,9 @@
-// Topic names, types and QoS profile names of the design's topic table, one trait per IDL type.
+// Topic names, types and QoS profile names of the design's topic table, one trait per IDL type; the
+// diagnostic services' estimate topics are generated from services/services.list
+// (windfdi_add_service_estimate).
 #pragma once
 
 #include "ControlConfigurationPubSubTypes.h"
-#include "EstimatesPubSubTypes.h"
 #include "FaultAckPubSubTypes.h"
 #include "FaultReportPubSubTypes.h"
 #include "LidarFramePubSubTypes.h"
@@ -33,15 +34,9 @@ struct TopicTraits;
 
 WINDFDI_TOPIC(TurbineFrame, "wt/frame", "sensor_stream", true);
 WINDFDI_TOPIC(LidarFrame, "wt/lidar", "sensor_stream", true);
-WINDFDI_TOPIC(BladeLoadEstimate, "wt/estimate/blade_load", "estimate_best_effort", false);
-WINDFDI_TOPIC(SensorBiasEstimate, "wt/estimate/sensor_bias", "estimate_reliable", false);
-WINDFDI_TOPIC(PitchActuatorEstimate, "wt/estimate/pitch", "estimate_best_effort", false);
-WINDFDI_TOPIC(InertiaEstimate, "wt/estimate/inertia", "estimate_best_effort", false);
 WINDFDI_TOPIC(FaultReport, "wt/fault", "fault", false);
 WINDFDI_TOPIC(ServiceHealth, "wt/health", "health", false);
 WINDFDI_TOPIC(ControlConfiguration, "wt/control/config", "control", false);
 WINDFDI_TOPIC(FaultAck, "wt/fault_ack", "fault_ack", false);
-
-#undef WINDFDI_TOPIC
 
 }  // namespace windfdi::bus

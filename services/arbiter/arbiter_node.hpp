@@ -7,7 +7,6 @@
 #include <string>
 
 #include "ControlConfiguration.h"
-#include "Estimates.h"
 #include "FaultAck.h"
 #include "FaultReport.h"
 #include "ServiceHealth.h"
@@ -15,6 +14,8 @@
 #include "dds/endpoints.hpp"
 #include "decision.hpp"
 #include "health.hpp"
+#include "ice_detect_estimate_topic.hpp"
+#include "pitch_diag_estimate_topic.hpp"
 #include "service_liveliness.hpp"
 #include "turbine_clock.hpp"
 

@@ -6,7 +6,7 @@
 
 #include <memory>
 
-#include "Estimates.h"
+#include "blade_load_estimate_topic.hpp"
 #include "deploy_dir.hpp"
 
 namespace windfdi::blade_load {

@@ -3,7 +3,7 @@
 
 #include <memory>
 
-#include "Estimates.h"
+#include "ice_detect_estimate_topic.hpp"
 
 namespace windfdi::ice_detect {
 

@@ -3,8 +3,8 @@
 
 #include <memory>
 
-#include "Estimates.h"
 #include "dds/convert.hpp"
+#include "pitch_diag_estimate_topic.hpp"
 
 namespace windfdi::pitch_diag {
 

@@ -4,8 +4,8 @@
 
 #include <memory>
 
-#include "Estimates.h"
 #include "deploy_dir.hpp"
+#include "sensor_bias_estimate_topic.hpp"
 
 namespace windfdi::sensor_bias {
 

@@ -17,6 +17,16 @@ TEST(InstalledTree, ThePlantAndEveryServiceRunFromTheInstalledConfiguration) {
                        {{"DESTDIR", root}}, "install");
   ASSERT_EQ(install.wait(180s), 0) << install.stdout_text() << install.stderr_text();
 
+  // Every diagnostic service's systemd unit (generated from the registry) and the turbine target that wants
+  // it.
+  const std::string units = root + "/usr/lib/systemd/system/";
+  const std::string target = read_file(units + "windfdi-turbine@.target");
+  for (const std::string unit : {"blade-load", "sensor-bias", "pitch-diag", "ice-detect"}) {
+    const std::string text = read_file(units + "windfdi-" + unit + "@.service");
+    EXPECT_NE(text.find("ExecStart=/usr/bin/windfdi-" + unit + " --turbine %i"), std::string::npos) << unit;
+    EXPECT_NE(target.find("windfdi-" + unit + "@%i.service"), std::string::npos) << unit;
+  }
+
   const std::string etc = root + "/etc/windfdi";
   const std::string usr = root + "/usr";
   // The installed tree stands for /etc/windfdi: the source tree must not be what the binaries read.

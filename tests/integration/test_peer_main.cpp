@@ -8,11 +8,11 @@
 #include <thread>
 
 #include "ControlConfiguration.h"
-#include "Estimates.h"
 #include "app.hpp"
 #include "dds/convert.hpp"
 #include "dds/endpoints.hpp"
 #include "health.hpp"
+#include "sensor_bias_estimate_topic.hpp"
 #include "yaml_config.hpp"
 
 using namespace windfdi;

@@ -2,8 +2,8 @@
 // CSV values and the DDS sample, consistently.
 #include <gtest/gtest.h>
 
-#include "Estimates.h"
 #include "diagnostic_service.hpp"
+#include "ice_detect_estimate_topic.hpp"
 
 using namespace windfdi;
 
