@@ -1,11 +1,10 @@
 // The farm monitor's DDS node: faults, configurations and health of every turbine in; SQLite and a live
-// table out; operator acknowledgements published.
+// table out. The one-shot subcommands (ack, history, report) are in farm_cli.hpp.
 #pragma once
 
 #include <string>
 
 #include "ControlConfiguration.h"
-#include "FaultAck.h"
 #include "FaultReport.h"
 #include "ServiceHealth.h"
 #include "app.hpp"
@@ -42,18 +41,5 @@ class FarmNode {
   ServiceLiveliness liveliness_;
   std::map<std::string, std::string> service_state_;  // turbine/service -> last state stored
 };
-
-/// Publishes one FaultAck and waits (up to `timeout_s`) for it to be acknowledged by the readers.
-int publish_ack(const CommonOptions& common, const std::string& turbine, const std::string& component,
-                const std::string& fault, const std::string& operator_name, double timeout_s);
-
-/// Prints injected faults against detections (ends the demo).
-/// `history_file` (JSON Lines of `history --json`) instead of the database when given.
-/// `json`: one JSON object (faults, extra reports, stops) instead of the tables.
-int print_report(const std::string& db, const std::string& scenario, double since,
-                 const std::string& history_file, bool json);
-
-/// Prints the stored history (a table, or JSON Lines with `json`).
-int print_history(const std::string& db, const std::string& turbine, double since, bool json);
 
 }  // namespace windfdi::farm

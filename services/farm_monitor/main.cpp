@@ -2,6 +2,7 @@
 #include <cstdlib>
 
 #include "app.hpp"
+#include "farm_cli.hpp"
 #include "farm_node.hpp"
 
 int main(int argc, char** argv) {
