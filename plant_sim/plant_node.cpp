@@ -74,17 +74,14 @@ struct TurbineRun {
 };
 
 ControlInput to_input(const windfdi::ControlConfiguration& c) {
-  ControlInput in;
-  in.mode = bus::from_idl(c.mode());
-  in.ipc_source = bus::from_idl(c.ipc_source());
-  for (int i = 0; i < 3; ++i) {
-    const double r = c.pitch_rate_limit()[i];
-    in.pitch_rate_limit[i] = std::isfinite(r) && r > 0.0 ? r : 10.0;
-  }
-  in.use_corrected_generator_speed = c.use_corrected_generator_speed();
-  in.inertia = std::isfinite(c.inertia()) && c.inertia() > 0 ? c.inertia() : 0.0;
-  if (bus::from_idl(c.ice_mode()) == control::IceMode::kStop) in.mode = OperatingMode::kSafeStop;
-  return in;
+  ControlSettings s;
+  s.mode = bus::from_idl(c.mode());
+  s.ipc_source = bus::from_idl(c.ipc_source());
+  s.ice_mode = bus::from_idl(c.ice_mode());
+  for (std::size_t i = 0; i < 3; ++i) s.pitch_rate_limit[i] = c.pitch_rate_limit()[i];
+  s.use_corrected_generator_speed = c.use_corrected_generator_speed();
+  s.inertia = c.inertia();
+  return control_input(s);
 }
 
 }  // namespace

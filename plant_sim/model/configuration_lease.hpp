@@ -3,9 +3,38 @@
 // stopped.
 #pragma once
 
+#include <array>
+#include <cmath>
+
 #include "turbine_sim.hpp"
 
 namespace windfdi::plant {
+
+/// The settings of a ControlConfiguration the plant acts on, whoever carries them (the DDS sample, or the
+/// arbiter's own Configuration in the closed-loop replay).
+struct ControlSettings {
+  OperatingMode mode = OperatingMode::kNormal;
+  IpcSource ipc_source = IpcSource::kStrainGauge;
+  control::IceMode ice_mode = control::IceMode::kNormal;
+  std::array<double, 3> pitch_rate_limit{10.0, 10.0, 10.0};  ///< deg/s per blade
+  bool use_corrected_generator_speed = false;
+  double inertia = 0.0;  ///< kg m^2 generator side (0: nominal)
+};
+
+/// What the controller is asked to do: a rate limit that is not finite and positive is the actuator's own
+/// 10 deg/s, an inertia that is not is the nominal one, and ice mode "stop" is a safe stop.
+inline ControlInput control_input(const ControlSettings& s) {
+  ControlInput in;
+  in.mode = s.ice_mode == control::IceMode::kStop ? OperatingMode::kSafeStop : s.mode;
+  in.ipc_source = s.ipc_source;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const double r = s.pitch_rate_limit[i];
+    in.pitch_rate_limit[i] = std::isfinite(r) && r > 0.0 ? r : 10.0;
+  }
+  in.use_corrected_generator_speed = s.use_corrected_generator_speed;
+  in.inertia = std::isfinite(s.inertia) && s.inertia > 0.0 ? s.inertia : 0.0;
+  return in;
+}
 
 class ConfigurationLease {
  public:

@@ -46,16 +46,16 @@ struct Turbine {
   plant::ConfigurationLease control{std::numeric_limits<double>::infinity()};
 };
 
-/// What windfdi-plant does with a configuration (plant_node.cpp's to_input), for the closed loop.
+/// What windfdi-plant does with a configuration (the plant's own control_input rule), for the closed loop.
 plant::ControlInput control_input(const arbiter::Configuration& c) {
-  plant::ControlInput in;
-  in.mode = c.mode;  // one definition (common/control_modes.hpp)
-  in.ipc_source = c.ipc_source;
-  in.pitch_rate_limit = c.pitch_rate_limit;
-  in.use_corrected_generator_speed = c.use_corrected_generator_speed;
-  in.inertia = c.inertia;
-  if (c.ice_mode == arbiter::IceMode::kStop) in.mode = plant::OperatingMode::kSafeStop;
-  return in;
+  plant::ControlSettings s;
+  s.mode = c.mode;  // one definition (common/control_modes.hpp)
+  s.ipc_source = c.ipc_source;
+  s.ice_mode = c.ice_mode;
+  s.pitch_rate_limit = c.pitch_rate_limit;
+  s.use_corrected_generator_speed = c.use_corrected_generator_speed;
+  s.inertia = c.inertia;
+  return plant::control_input(s);
 }
 
 /// The control content of a configuration (what DiagnosticNode compares; new reasons alone move nothing).

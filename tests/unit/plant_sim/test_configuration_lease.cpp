@@ -65,3 +65,25 @@ TEST(ConfigurationLease, ACorrectedSpeedIsUsedOnlyWhileFresh) {
   EXPECT_DOUBLE_EQ(lease.input(10.5).corrected_generator_speed, 150.0);
   EXPECT_TRUE(std::isnan(lease.input(11.1).corrected_generator_speed));  // sensor_bias silent for 1.1 s
 }
+
+TEST(ControlSettings, IceStopIsASafeStopAndInvalidLimitsAndInertiaAreTheDefaults) {
+  // GIVEN a configuration with ice mode stop, a NaN and a negative rate limit and a NaN inertia
+  ControlSettings s;
+  s.mode = OperatingMode::kDegraded;
+  s.ice_mode = control::IceMode::kStop;
+  s.pitch_rate_limit = {kNaN, -1.0, 4.0};
+  s.inertia = kNaN;
+  s.use_corrected_generator_speed = true;
+  const ControlInput in = control_input(s);
+  // THEN the turbine stops, the bad limits are the actuator's own 10 deg/s, the good one holds, and the
+  // controller keeps its nominal inertia
+  EXPECT_EQ(in.mode, OperatingMode::kSafeStop);
+  EXPECT_EQ(in.pitch_rate_limit, (std::array<double, 3>{10.0, 10.0, 4.0}));
+  EXPECT_EQ(in.inertia, 0.0);
+  EXPECT_TRUE(in.use_corrected_generator_speed);
+  // AND without the ice stop the mode is the configuration's own
+  s.ice_mode = control::IceMode::kAdapted;
+  s.inertia = 4.2e6;
+  EXPECT_EQ(control_input(s).mode, OperatingMode::kDegraded);
+  EXPECT_EQ(control_input(s).inertia, 4.2e6);
+}
