@@ -1,10 +1,13 @@
-// One simulated benchmark turbine (drive train: Witczak et al. eqs 31-33; pitch actuator: Wu & Li eqs 11-13
-// with Table 1, and the -omega_n^2 beta term eq 34 of Witczak et al. lacks).
+// One simulated benchmark turbine: aerodynamics, blade loads, icing and plant faults (pitch actuator: Wu & Li
+// eqs 11-13 with Table 1), around its wind, sensors, controller and dynamics.
 #include "turbine_sim.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <functional>
+
+#include "fault_schedule.hpp"
+#include "lidar_shear.hpp"
 
 namespace windfdi::plant {
 
@@ -36,45 +39,39 @@ TurbineSim::TurbineSim(const TurbineParams& params, const TurbineScenario& turbi
     : id_(turbine.id),
       p_(params),
       aero_(params),
-      wind_(turbine.wind),
       faults_(faults),
-      ctl_(controller),
       noise_(noise),
       dt_(1.0 / sample_rate),
-      rng_(mix_seed(seed, turbine.id)),
+      random_(mix_seed(seed, turbine.id)),
+      wind_(turbine.wind, params, dt_),
+      sensors_(faults, dt_),
+      controller_(params, controller, turbine.wind.lidar_distance, turbine.wind.mean, dt_),
       ice_mass_(turbine.ice_mass),
       ice_initial_(turbine.ice_mass),
-      shed_done_(faults.size(), false),
-      stuck_value_(faults.size(), 0.0),
-      stuck_latched_(faults.size(), false) {
-  // Frozen turbulence: what the LIDAR sees at distance D reaches the rotor D / V later.
-  delay_samples_ = std::max<std::size_t>(
-      1, static_cast<std::size_t>(std::lround(wind_.lidar_distance / wind_.mean / dt_)));
-  const double v = wind_.mean;
+      shed_done_(faults.size(), false) {
+  const double v = turbine.wind.mean;
   // Start at the operating point of the mean wind.
   const double lambda_opt = AeroModel::optimal_tip_speed_ratio();
   const double omega_rated = p_.rated_generator_speed / p_.gear_ratio;
-  omega_r_ = std::min(lambda_opt * v / p_.rotor_radius, omega_rated);
+  DriveTrain& x = drive_train_;
+  x.rotor_speed = std::min(lambda_opt * v / p_.rotor_radius, omega_rated);
   double beta = 0.0;
-  if (omega_r_ >= omega_rated - 1e-9) {
+  if (x.rotor_speed >= omega_rated - 1e-9) {
     double lo = 0.0, hi = 45.0;
     const double target = p_.rated_power / p_.generator_efficiency / p_.drive_train_efficiency;
     for (int i = 0; i < 60; ++i) {
       const double mid = 0.5 * (lo + hi);
-      (aero_.aero_power(v, omega_r_, mid) > target ? lo : hi) = mid;
+      (aero_.aero_power(v, x.rotor_speed, mid) > target ? lo : hi) = mid;
     }
     beta = 0.5 * (lo + hi);
   }
-  omega_g_ = omega_r_ * p_.gear_ratio;
+  x.generator_speed = x.rotor_speed * p_.gear_ratio;
   for (auto& a : actuator_) a.angle = beta;
-  pitch_ref_ = {beta, beta, beta};
-  pitch_integral_ = beta;
-  speed_filtered_ = omega_g_;
-  const double t_aero = aero_.aero_torque(v, omega_r_, beta);
-  theta_ = (t_aero - p_.rotor_friction * omega_r_) / p_.drive_train_stiffness;
-  gen_torque_ = p_.drive_train_efficiency * (t_aero - p_.rotor_friction * omega_r_) / p_.gear_ratio -
-                p_.generator_friction * omega_g_;
-  for (std::size_t i = 0; i < delay_samples_; ++i) wind_delay_.emplace_back(v, wind_.shear_exponent);
+  controller_.start_at(beta, x.generator_speed);
+  const double t_aero = aero_.aero_torque(v, x.rotor_speed, beta);
+  x.torsion = (t_aero - p_.rotor_friction * x.rotor_speed) / p_.drive_train_stiffness;
+  gen_torque_ = p_.drive_train_efficiency * (t_aero - p_.rotor_friction * x.rotor_speed) / p_.gear_ratio -
+                p_.generator_friction * x.generator_speed;
   index_ = -static_cast<int64_t>(std::llround(kSettleTime / dt_));
   t_ = static_cast<double>(index_) * dt_;
   settle(kSettleTime);
@@ -88,187 +85,19 @@ void TurbineSim::settle(double seconds) {
   k_ = 0;
 }
 
-bool TurbineSim::fault_active(const FaultSpec& f) const {
-  if (f.target.rfind("pitch_actuator_", 0) == 0) return pitch_alpha(f) > 0.0;
-  if (f.type == "ice_accretion") return t_ >= f.start && t_ < f.end;
-  if (f.type == "ice_shedding") return t_ >= f.start && t_ < std::min(f.end, f.start + 60.0);
-  return t_ >= f.start && t_ < f.end;
-}
-
-double TurbineSim::pitch_alpha(const FaultSpec& f) const {
-  // Abrupt (no ramps) or gradual: ramp in, hold until `end`, ramp out (Wu & Li eqs 11-13's indicator).
-  if (t_ < f.start) return 0.0;
-  if (t_ < f.start + f.ramp_in) return f.alpha * (t_ - f.start) / f.ramp_in;
-  if (t_ < f.end) return f.alpha;
-  if (f.ramp_out > 0.0 && t_ < f.end + f.ramp_out) return f.alpha * (1.0 - (t_ - f.end) / f.ramp_out);
-  return 0.0;
-}
-
 std::vector<bool> TurbineSim::faults_active() const {
   std::vector<bool> out;
-  for (const auto& f : faults_) out.push_back(fault_active(f));
+  for (const auto& f : faults_) out.push_back(fault_active(f, t_));
   return out;
 }
 
-double TurbineSim::measure(const std::string& channel, double true_value, double noise_std, bool inject) {
-  double v = true_value + noise_std * normal_(rng_);
-  if (!inject) return v;
-  for (std::size_t i = 0; i < faults_.size(); ++i) {
-    const FaultSpec& f = faults_[i];
-    const bool targets = f.target == channel || (f.target == "lidar" && channel.rfind("lidar_v_", 0) == 0);
-    if (!targets) continue;
-    if (!fault_active(f)) {
-      stuck_latched_[i] = false;
-      continue;
-    }
-    const double since = t_ - f.start;
-    if (f.type == "bias" || f.type == "offset") {
-      v += f.value;
-    } else if (f.type == "bias_paper") {
-      // Witczak et al. eqs 41-42: a state-dependent bias, k counted from the fault's start.
-      const double k = std::floor(since / dt_ + 1e-6);
-      v += f.amplitude * (true_value * std::sin(k / 500.0) + true_value * std::sin(k / 1000.0) + true_value);
-    } else if (f.type == "gain") {
-      v *= f.gain;
-    } else if (f.type == "drift") {
-      v += f.rate * since;
-    } else if (f.type == "stuck") {
-      if (!stuck_latched_[i]) {
-        stuck_value_[i] = f.has_value ? f.value : v;
-        stuck_latched_[i] = true;
-      }
-      v = stuck_value_[i];
-    } else if (f.type == "intermittent") {
-      if (std::fmod(since, f.period) < f.duty * f.period) v = f.gain * v + f.value;
-    } else if (f.type == "invalid") {
-      v = kNaN;
-    }
-  }
-  return v;
-}
-
-void TurbineSim::update_wind() {
-  // Turbulence: Ornstein-Uhlenbeck (first-order low-pass white noise), std = TI * mean,
-  // time constant = length_scale / mean; the shear exponent varies slowly the same way.
-  const double tau = wind_.length_scale / wind_.mean;
-  const double a = std::exp(-dt_ / tau);
-  const double sigma = wind_.turbulence_intensity * wind_.mean;
-  turbulence_ = a * turbulence_ + sigma * std::sqrt(1.0 - a * a) * normal_(rng_);
-  const double as = std::exp(-dt_ / wind_.shear_time_constant);
-  shear_dev_ = as * shear_dev_ + wind_.shear_variation * std::sqrt(1.0 - as * as) * normal_(rng_);
-  const double upstream = std::max(0.5, wind_.mean + turbulence_);
-  const double shear = wind_.shear_exponent + shear_dev_;
-  wind_delay_.emplace_back(upstream, shear);
-  while (wind_delay_.size() > delay_samples_ + 1) wind_delay_.pop_front();
-  truth_.wind_upstream = upstream;
-
-  lidar_updated_ = false;
-  lidar_timer_ += dt_;
-  if (lidar_timer_ >= 1.0 / wind_.lidar_rate - 1e-9) {
-    lidar_timer_ = 0.0;
-    lidar_updated_ = true;
-    const double h = p_.hub_height, r2 = 0.5 * p_.rotor_radius;
-    lidar_upper_ = upstream * std::pow((h + r2) / h, shear) + wind_.lidar_noise * normal_(rng_);
-    lidar_lower_ = upstream * std::pow((h - r2) / h, shear) + wind_.lidar_noise * normal_(rng_);
-  }
-}
-
-void TurbineSim::controller(const ControlInput& in, const FrameSample& m, std::array<double, 3>& pitch_ref,
-                            double& torque_ref) {
-  const double omega_rated_g = p_.rated_generator_speed;
-  double wg = (in.use_corrected_generator_speed && std::isfinite(in.corrected_generator_speed))
-                  ? in.corrected_generator_speed
-                  : m.generator_speed;
-  if (!std::isfinite(wg)) wg = speed_filtered_;  // an invalid sample: hold the last filtered value
-  speed_filtered_ += (wg - speed_filtered_) * dt_ / (ctl_.speed_filter + dt_);
-
-  if (in.mode == OperatingMode::kSafeStop) {
-    // Feather at the rate limit and ramp the torque down.
-    if (stop_torque_ < 0) stop_torque_ = gen_torque_;
-    stop_torque_ = std::max(0.0, stop_torque_ - gen_torque_ / ctl_.stop_torque_time * dt_ - 1.0);
-    torque_ref = stop_torque_;
-    pitch_ref = {p_.pitch_max, p_.pitch_max, p_.pitch_max};
-    pitch_integral_ = p_.pitch_max;
-    return;
-  }
-  stop_torque_ = -1;
-  const bool degraded = in.mode == OperatingMode::kDegraded;
-  const double speed_share = degraded ? ctl_.degraded_speed : 1.0;
-  const double omega_ref = omega_rated_g * speed_share;
-  const double power_share = degraded ? ctl_.degraded_power : 1.0;
-  const double torque_max = p_.rated_power * power_share / (p_.generator_efficiency * omega_ref);
-  // Region 2: K omega^2 from Cp's maximum, referred to the generator side.
-  static const double lambda_opt = AeroModel::optimal_tip_speed_ratio();
-  static const double cp_max = AeroModel::power_coefficient(lambda_opt, 0.0);
-  const double k_opt = 0.5 * p_.air_density * p_.rotor_area() * std::pow(p_.rotor_radius, 3) * cp_max /
-                       std::pow(lambda_opt, 3) / std::pow(p_.gear_ratio, 3);
-  torque_ref = std::min(k_opt * speed_filtered_ * speed_filtered_, torque_max);
-
-  // Region 3: gain-scheduled PI on generator speed; gains scale with the (iced) inertia when adapted.
-  const double inertia_scale = in.inertia > 0.0 ? in.inertia / p_.lumped_inertia() : 1.0;
-  const double beta_c = std::max(0.0, pitch_integral_);
-  const double gs = inertia_scale / (1.0 + beta_c / ctl_.gain_schedule_pitch);
-  const double e = speed_filtered_ - omega_ref;
-  pitch_integral_ = std::clamp(pitch_integral_ + ctl_.pitch_ki * gs * e * dt_, 0.0, p_.pitch_max);
-  const double collective = std::clamp(pitch_integral_ + ctl_.pitch_kp * gs * e, 0.0, p_.pitch_max);
-
-  // IPC on the 1P load (Coleman d-q), from the strain gauges or the LIDAR load model.
-  const bool ipc_on = in.ipc_source != IpcSource::kOff && collective > 1.0;
-  std::array<double, 3> moment{};
-  bool moments_ok = true;
-  const double psi1 = m.azimuth;
-  if (in.ipc_source == IpcSource::kStrainGauge) {
-    moment = m.blade_moment;
-  } else if (in.ipc_source == IpcSource::kLidarModel) {
-    // The LIDAR measurement of D / V ago is the wind at the rotor now.
-    double vu = kNaN, vl = kNaN;
-    const double v_est = std::isfinite(lidar_upper_) ? 0.5 * (lidar_upper_ + lidar_lower_) : wind_.mean;
-    const double want = t_ - wind_.lidar_distance / std::max(v_est, 1.0);
-    for (auto it = lidar_history_.rbegin(); it != lidar_history_.rend(); ++it)
-      if ((*it)[0] <= want) {
-        vu = (*it)[1];
-        vl = (*it)[2];
-        break;
-      }
-    const double h = p_.hub_height, r2 = 0.5 * p_.rotor_radius;
-    moments_ok = std::isfinite(vu) && std::isfinite(vl) && vu > 0 && vl > 0;
-    if (moments_ok) {
-      const double alpha = std::log(vu / vl) / std::log((h + r2) / (h - r2));
-      const double v_hub = vu / std::pow((h + r2) / h, alpha);
-      const double lambda = aero_.tip_speed_ratio(v_hub, m.rotor_speed);
-      for (int i = 0; i < 3; ++i) {
-        const double psi = psi1 + i * 2.0 * M_PI / 3.0;
-        const double vi = v_hub * std::pow((h + p_.load_radius * p_.rotor_radius * std::cos(psi)) / h, alpha);
-        moment[i] = aero_.moment_coefficient(lambda, pitch_ref_[i]) * vi * vi;
-      }
-    }
-  }
-  for (double x : moment) moments_ok = moments_ok && std::isfinite(x);
-  if (ipc_on && moments_ok) {
-    double md = 0, mq = 0;
-    for (int i = 0; i < 3; ++i) {
-      const double psi = psi1 + i * 2.0 * M_PI / 3.0;
-      md += 2.0 / 3.0 * moment[i] * std::cos(psi);
-      mq += 2.0 / 3.0 * moment[i] * std::sin(psi);
-    }
-    ipc_d_ = std::clamp(ipc_d_ + ctl_.ipc_gain * md * dt_, -ctl_.ipc_limit, ctl_.ipc_limit);
-    ipc_q_ = std::clamp(ipc_q_ + ctl_.ipc_gain * mq * dt_, -ctl_.ipc_limit, ctl_.ipc_limit);
-  } else {
-    const double decay = std::exp(-dt_ / 2.0);  // fade out over about 2 s
-    ipc_d_ *= decay;
-    ipc_q_ *= decay;
-  }
-  for (int i = 0; i < 3; ++i) {
-    const double psi = psi1 + i * 2.0 * M_PI / 3.0;
-    pitch_ref[i] =
-        std::clamp(collective + ipc_d_ * std::cos(psi) + ipc_q_ * std::sin(psi), p_.pitch_min, p_.pitch_max);
-  }
-}
-
 void TurbineSim::advance(const ControlInput& input, bool inject) {
-  update_wind();
-  const double v_rotor = wind_delay_.front().first;
-  const double shear = wind_delay_.front().second;
+  wind_.step(random_);
+  truth_.wind_upstream = wind_.upstream();
+  const ShearProfile rotor = wind_.at_rotor();
+  const double v_rotor = rotor.hub_speed;
+  double& omega_r = drive_train_.rotor_speed;
+  const double& omega_g = drive_train_.generator_speed;
 
   // Ice: accretion ramps up to its mass; shedding drops a share of what is there at that moment.
   double ice = ice_initial_ - ice_shed_;
@@ -293,10 +122,10 @@ void TurbineSim::advance(const ControlInput& input, bool inject) {
   }
   if (inject)
     for (const auto& f : faults_) {
-      if (f.type == "efficiency" && fault_active(f)) eta = f.value;
-      if (f.type == "torque_offset" && fault_active(f)) torque_offset = f.value;
+      if (f.type == "efficiency" && fault_active(f, t_)) eta = f.value;
+      if (f.type == "torque_offset" && fault_active(f, t_)) torque_offset = f.value;
       if (f.target.rfind("pitch_actuator_", 0) == 0) {
-        const double alpha = pitch_alpha(f);
+        const double alpha = pitch_fault_indicator(f, t_);
         if (alpha <= 0.0) continue;
         const int b = f.target.back() - '1';
         for (const auto& sig : kPitchFaults)
@@ -309,23 +138,23 @@ void TurbineSim::advance(const ControlInput& input, bool inject) {
     }
 
   // Aerodynamics and blade loads at the current state.
-  const double lambda = aero_.tip_speed_ratio(v_rotor, omega_r_);
+  const double lambda = aero_.tip_speed_ratio(v_rotor, omega_r);
   double t_aero = 0.0;
   for (int i = 0; i < 3; ++i)
-    t_aero += aero_.aero_torque(v_rotor, omega_r_, actuator_[i].angle, cp_scale) / 3.0;
+    t_aero += aero_.aero_torque(v_rotor, omega_r, actuator_[i].angle, cp_scale) / 3.0;
   const double h = p_.hub_height;
   std::array<double, 3> moment{};
   for (int i = 0; i < 3; ++i) {
     const double psi = azimuth_ + i * 2.0 * M_PI / 3.0;
     const double height = h + p_.load_radius * p_.rotor_radius * std::cos(psi);
     const double shadow =
-        1.0 - wind_.tower_shadow * std::exp(-std::pow(wrap_pi(psi - M_PI) / kShadowWidth, 2));
-    const double vi = v_rotor * std::pow(height / h, shear) * shadow;
+        1.0 - wind_.config().tower_shadow * std::exp(-std::pow(wrap_pi(psi - M_PI) / kShadowWidth, 2));
+    const double vi = rotor.at(height) * shadow;
     moment[i] = aero_.moment_coefficient(lambda, actuator_[i].angle) * vi * vi;
   }
 
   // Truth, including the first harmonic over the last revolution: a = (1/pi) \int M cos(psi) dpsi.
-  const double dpsi = std::max(0.0, omega_r_ * dt_);
+  const double dpsi = std::max(0.0, omega_r * dt_);
   std::array<double, 7> rev{dpsi};
   for (int i = 0; i < 3; ++i) {
     const double psi = azimuth_ + i * 2.0 * M_PI / 3.0;
@@ -338,9 +167,9 @@ void TurbineSim::advance(const ControlInput& input, bool inject) {
     for (int j = 0; j < 7; ++j) revolution_sum_[j] -= revolution_.front()[j];
     revolution_.pop_front();
   }
-  truth_.rotor_speed = omega_r_;
-  truth_.generator_speed = omega_g_;
-  truth_.torsion = theta_;
+  truth_.rotor_speed = omega_r;
+  truth_.generator_speed = omega_g;
+  truth_.torsion = drive_train_.torsion;
   for (int i = 0; i < 3; ++i) truth_.pitch[i] = actuator_[i].angle;
   truth_.blade_moment = moment;
   // The window must span exactly 2 pi, or the mean load leaks into the first harmonic: weight the oldest
@@ -356,33 +185,35 @@ void TurbineSim::advance(const ControlInput& input, bool inject) {
   truth_.inertia = p_.lumped_inertia(ice_mass_ * p_.ice_radius * p_.ice_radius);
   truth_.ice_mass = ice_mass_;
   truth_.aero_torque = t_aero;
-  truth_.aero_power = t_aero * omega_r_;
+  truth_.aero_power = t_aero * omega_r;
   truth_.gen_torque = gen_torque_ + torque_offset;
   truth_.wind_hub = v_rotor;
-  truth_.shear_exponent = shear;
+  truth_.shear_exponent = rotor.exponent;
 
   // Sensors.
   FrameSample& s = sample_;
   s.sequence = k_;
   s.t = t_;
   s.valid_mask = kValidAll;
-  s.rotor_speed = measure("rotor_speed", omega_r_, noise_.rotor_speed, inject);
-  s.generator_speed = measure("generator_speed", omega_g_, noise_.generator_speed, inject);
-  s.gen_torque = measure("gen_torque", gen_torque_ + torque_offset, noise_.gen_torque, inject);
-  s.power = measure("power", p_.generator_efficiency * omega_g_ * (gen_torque_ + torque_offset), noise_.power,
-                    inject);
-  s.wind_hub = measure("wind_hub", v_rotor, noise_.wind_hub, inject);
+  const auto measure = [&](const char* channel, double true_value, double noise_std) {
+    return sensors_.measure(channel, true_value, noise_std, t_, inject, random_);
+  };
+  s.rotor_speed = measure("rotor_speed", omega_r, noise_.rotor_speed);
+  s.generator_speed = measure("generator_speed", omega_g, noise_.generator_speed);
+  s.gen_torque = measure("gen_torque", gen_torque_ + torque_offset, noise_.gen_torque);
+  s.power = measure("power", p_.generator_efficiency * omega_g * (gen_torque_ + torque_offset), noise_.power);
+  s.wind_hub = measure("wind_hub", v_rotor, noise_.wind_hub);
   s.azimuth = std::fmod(azimuth_, 2.0 * M_PI);
   static const char* kPitch[] = {"pitch_1", "pitch_2", "pitch_3"};
   static const char* kMoment[] = {"blade_moment_1", "blade_moment_2", "blade_moment_3"};
   for (int i = 0; i < 3; ++i) {
-    s.pitch[i] = measure(kPitch[i], actuator_[i].angle, noise_.pitch, inject);
-    s.blade_moment[i] = measure(kMoment[i], moment[i], noise_.blade_moment, inject);
+    s.pitch[i] = measure(kPitch[i], actuator_[i].angle, noise_.pitch);
+    s.blade_moment[i] = measure(kMoment[i], moment[i], noise_.blade_moment);
   }
-  s.lidar_v_upper = measure("lidar_v_upper", lidar_upper_, 0.0, inject);
-  s.lidar_v_lower = measure("lidar_v_lower", lidar_lower_, 0.0, inject);
+  s.lidar_v_upper = measure("lidar_v_upper", wind_.lidar_upper(), 0.0);
+  s.lidar_v_lower = measure("lidar_v_lower", wind_.lidar_lower(), 0.0);
   s.aero_torque = t_aero;
-  s.aero_power = t_aero * omega_r_;
+  s.aero_power = t_aero * omega_r;
   const double* channels[] = {&s.rotor_speed, &s.generator_speed, &s.gen_torque, &s.power, &s.wind_hub};
   const uint32_t bits[] = {kValidRotorSpeed, kValidGeneratorSpeed, kValidGenTorque, kValidPower,
                            kValidWindHub};
@@ -393,83 +224,28 @@ void TurbineSim::advance(const ControlInput& input, bool inject) {
     if (!std::isfinite(s.blade_moment[i])) s.valid_mask &= ~(kValidBladeMoment1 << i);
   }
   if (!std::isfinite(s.lidar_v_upper) || !std::isfinite(s.lidar_v_lower)) s.valid_mask &= ~kValidLidar;
-  if (lidar_updated_) {
-    lidar_history_.push_back({t_, s.lidar_v_upper, s.lidar_v_lower});
-    while (lidar_history_.size() > 200) lidar_history_.pop_front();
-  }
 
   // Controller: the references are held over the next sample (zero-order hold).
-  double torque_ref = 0.0;
-  std::array<double, 3> pitch_ref{};
-  controller(input, s, pitch_ref, torque_ref);
-  pitch_ref_ = pitch_ref;
-  s.pitch_ref = pitch_ref;
-  s.gen_torque_ref = torque_ref;
+  const ControllerOutput ref = controller_.step(t_, input, s, wind_.lidar_updated(), gen_torque_);
+  s.pitch_ref = ref.pitch_ref;
+  s.gen_torque_ref = ref.torque_ref;
 
   // Dynamics over one sample.
   const double h_sub = dt_ / kSubsteps;
   const double conv = 1.0 - std::exp(-h_sub / p_.converter_time_constant);
-  const double n = p_.gear_ratio, jr = rotor_inertia, jg = p_.generator_inertia;
-  const double kdt = p_.drive_train_stiffness, bdt = p_.drive_train_damping, br = p_.rotor_friction,
-               bg = p_.generator_friction;
   for (int sub = 0; sub < kSubsteps; ++sub) {
-    gen_torque_ += (torque_ref - gen_torque_) * conv;
-    const double tg = gen_torque_ + torque_offset;
-    // Witczak et al. eqs 31-33.
-    auto f = [&](const std::array<double, 3>& x) {
-      return std::array<double, 3>{
-          -(bdt + br) / jr * x[0] + bdt / (n * jr) * x[1] - kdt / jr * x[2] + t_aero / jr,
-          eta * bdt / (n * jg) * x[0] - (eta * bdt / (n * n * jg) + bg / jg) * x[1] +
-              eta * kdt / (n * jg) * x[2] - tg / jg,
-          x[0] - x[1] / n};
-    };
-    std::array<double, 3> x{omega_r_, omega_g_, theta_};
-    const auto k1 = f(x);
-    std::array<double, 3> x2, x3, x4;
-    for (int j = 0; j < 3; ++j) x2[j] = x[j] + 0.5 * h_sub * k1[j];
-    const auto k2 = f(x2);
-    for (int j = 0; j < 3; ++j) x3[j] = x[j] + 0.5 * h_sub * k2[j];
-    const auto k3 = f(x3);
-    for (int j = 0; j < 3; ++j) x4[j] = x[j] + h_sub * k3[j];
-    const auto k4 = f(x4);
-    for (int j = 0; j < 3; ++j) x[j] += h_sub / 6.0 * (k1[j] + 2 * k2[j] + 2 * k3[j] + k4[j]);
-    omega_r_ = std::max(0.0, x[0]);
-    omega_g_ = std::max(0.0, x[1]);
-    theta_ = x[2];
-
+    gen_torque_ += (ref.torque_ref - gen_torque_) * conv;
+    drive_train_.step(p_, rotor_inertia, eta, t_aero, gen_torque_ + torque_offset, h_sub);
     for (int b = 0; b < 3; ++b)
-      actuator_[b].step(pitch_ref[b], h_sub, wn[b], zeta[b],
+      actuator_[b].step(ref.pitch_ref[b], h_sub, wn[b], zeta[b],
                         std::min(p_.pitch_rate_limit, input.pitch_rate_limit[b]), p_.pitch_min, p_.pitch_max);
-    azimuth_ += omega_r_ * h_sub;
+    azimuth_ += omega_r * h_sub;
   }
   azimuth_ = std::fmod(azimuth_, 2.0 * M_PI);
   // Time from the sample index, not a running sum: a fault due at 10 s starts at the sample stamped 10 s.
   ++index_;
   t_ = static_cast<double>(index_) * dt_;
   if (index_ > 0) k_ = static_cast<uint64_t>(index_);
-}
-
-void PitchActuator::step(double ref, double h, double wn, double zeta, double limit, double lo, double hi) {
-  const double w2 = wn * wn, c = 2.0 * zeta * wn;
-  auto acc = [&](double be, double ra) { return -c * ra - w2 * (be - ref); };
-  const double b0 = angle, r0 = rate;
-  const double k1b = r0, k1r = acc(b0, r0);
-  const double k2b = r0 + 0.5 * h * k1r, k2r = acc(b0 + 0.5 * h * k1b, k2b);
-  const double k3b = r0 + 0.5 * h * k2r, k3r = acc(b0 + 0.5 * h * k2b, k3b);
-  const double k4b = r0 + h * k3r, k4r = acc(b0 + h * k3b, k4b);
-  double b_new = b0 + h / 6.0 * (k1b + 2 * k2b + 2 * k3b + k4b);
-  double r_new = r0 + h / 6.0 * (k1r + 2 * k2r + 2 * k3r + k4r);
-  if (std::fabs(r_new) > limit) {
-    // The valve saturates: the angle moves at the rate limit.
-    r_new = std::clamp(r_new, -limit, limit);
-    b_new = b0 + 0.5 * h * (r0 + r_new);
-  }
-  if (b_new < lo || b_new > hi) {
-    b_new = std::clamp(b_new, lo, hi);
-    r_new = 0.0;
-  }
-  angle = b_new;
-  rate = r_new;
 }
 
 const FrameSample& TurbineSim::step(const ControlInput& input) {

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "lidar_shear.hpp"
 #include "yaml_config.hpp"
 
 namespace windfdi::blade_load {
@@ -184,15 +185,16 @@ bool LidarLoadModel::moments(double t, double rotor_speed, double azimuth, const
   const double h = c_.hub_height, r = c_.lidar_half_span * c_.rotor_radius;
   const double vu = e[1], vl = e[2];
   // Power-law shear through the two beams, then each blade's wind at its height (Figure 1).
-  alpha_ = std::log(vu / vl) / std::log((h + r) / (h - r));
-  v_hub_ = vu / std::pow((h + r) / h, alpha_);
+  const ShearProfile profile = shear_from_beams(vu, vl, h, r);
+  alpha_ = profile.exponent;
+  v_hub_ = profile.hub_speed;
   lambda_ = rotor_speed * c_.rotor_radius / v_hub_;  // eq 1 at the hub speed (the rotor's operating point)
   const double rl = c_.load_radius * c_.rotor_radius;
   for (int i = 0; i < 3; ++i) {
     const double psi = azimuth + i * 2.0 * M_PI / 3.0;
     const double dev = std::remainder(psi - M_PI, 2.0 * M_PI) / c_.shadow_width;
     const double shadow = 1.0 - c_.tower_shadow * std::exp(-dev * dev);
-    const double vi = v_hub_ * std::pow((h + rl * std::cos(psi)) / h, alpha_) * shadow;
+    const double vi = profile.at(h + rl * std::cos(psi)) * shadow;
     m[i] = table_->k(lambda_, pitch[i]) * vi * vi;  // eq 9
   }
   return true;
