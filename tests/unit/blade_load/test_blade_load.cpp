@@ -385,10 +385,10 @@ TEST(Adaptation, UniformWindPullsAWrongTableBackWithinItsBound) {
   // GIVEN a shipped table 8 % too low everywhere, and uniform wind (shear 0) with little turbulence
   LoadTable base = LoadTable::load_csv(kTable);
   MonitorConfig c = config();
-  c.learn_time = 60.0;
-  c.min_learn_revolutions = 10;
-  c.adapt_revolutions = 10;
-  c.adapt_gain = 0.3;
+  c.learning.learn_time = 60.0;
+  c.learning.min_learn_revolutions = 10;
+  c.adaptation.revolutions = 10;
+  c.adaptation.gain = 0.3;
   LoadTable low = base;
   for (auto& f : low.factors()) f = 0.92;  // the correction starts at the wrong value; the bound is around 1
   const auto r = run_plant(10.0, 0.02, 0.0, 0.0, 900, {}, 9, c, low);

@@ -1,0 +1,330 @@
+// The outlier and drift tests on the residual channels, their confirmation and isolation, and the classes.
+#include "residual_tests.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "frame_sample.hpp"
+
+namespace windfdi::blade_load {
+
+ResidualTests::ResidualTests(const DetectionConfig& detection, const LearningConfig& learning,
+                             const EpisodeConfig& episode)
+    : c_(detection),
+      healthy_(learning),
+      noise_(learning.noise_revolutions),
+      drift_noise_(learning.noise_revolutions) {
+  for (auto& B : blades_) {
+    B.run_start.fill(-1.0);
+    B.fast_start.fill(-1.0);
+    B.episode = EpisodeClassifier(episode);
+  }
+  witness_crit_ = student_t_critical(c_.witness_significance, 1e6);
+}
+
+bool ResidualTests::any_raised() const {
+  for (const auto& b : blades_)
+    if (!b.raised.empty()) return true;
+  return false;
+}
+
+void ResidualTests::restore(const BladeHealthy& s) {
+  healthy_.restore(s);
+  critical_values();
+}
+
+void ResidualTests::critical_values() {
+  // The outlier test's degrees of freedom are the values learned, the drift test's their effective number
+  // (lag-1 autocorrelation); the fewest of the three blades.
+  for (int c = 0; c < kChannels; ++c) {
+    if (!healthy_.learned(c)) continue;
+    int n = healthy_.at(0, c).n;
+    double ne = healthy_.at(0, c).n_eff(n);
+    for (int b = 1; b < 3; ++b) {
+      n = std::min(n, healthy_.at(b, c).n);
+      ne = std::min(ne, healthy_.at(b, c).n_eff(healthy_.at(b, c).n));
+    }
+    crit_[c] = student_t_critical(c_.significance, std::max(1, n - 1));
+    drift_crit_[c] = student_t_critical(c_.drift_significance, std::max(1.0, ne - 1.0));
+  }
+  const int nw = healthy_.learned(kWitnessChannel) ? healthy_.at(0, kWitnessChannel).n : 1000000;
+  witness_crit_ = student_t_critical(c_.witness_significance, std::max(1, nw - 1));
+}
+
+bool ResidualTests::standalone(int c, bool lidar_ok) const {
+  const bool model_on = lidar_ok && healthy_.learned(kModelChannel);
+  const bool mean_on = lidar_ok && healthy_.learned(kMeanChannel);
+  switch (c) {
+    case kModelChannel:
+      return model_on;
+    case kWitnessChannel:
+      return false;  // it only confirms the LIDAR residual
+    case kMeanChannel:
+      return c_.mean_test && mean_on;
+    // The sensor-only channels stand in for a lost LIDAR, not for LIDAR channels still learning: they learn
+    // about 10 s earlier (no D/V delay), and judging alone in that gap raised a false alarm at 207 s (16
+    // m/s).
+    case kRawWitnessChannel:
+      return !lidar_ok;
+    case kRawMeanChannel:
+      return c_.mean_test && !lidar_ok;
+  }
+  return false;
+}
+
+double ResidualTests::t_value(int b, int c, double x) const {
+  const HealthyStats& h = healthy_.at(b, c);
+  return h.learned && std::isfinite(x) ? h.outlier_t(x) / noise_.scale(c) : kNaN;
+}
+
+void ResidualTests::follow_noise(const BladeChannels& x) {
+  BladeChannels deviation, unit;
+  for (int b = 0; b < 3; ++b)
+    for (int c = 0; c < kChannels; ++c) {
+      const HealthyStats& h = healthy_.at(b, c);
+      deviation[b][c] = h.learned && std::isfinite(x[b][c]) ? x[b][c] - h.mean : kNaN;
+      unit[b][c] = h.outlier_sd();
+    }
+  noise_.follow(deviation, unit);
+}
+
+void ResidualTests::revolution(double t, double revolution_time, const BladeChannels& x, bool lidar_ok) {
+  follow_noise(x);
+  const std::size_t keep = static_cast<std::size_t>(std::max(c_.drift_window, c_.abrupt_lookback + 1) + 1);
+  for (int b = 0; b < 3; ++b) {
+    BladeState& B = blades_[b];
+    B.history.push_back(x[b]);
+    std::array<double, kChannels> tv;
+    for (int c = 0; c < kChannels; ++c) tv[c] = t_value(b, c, x[b][c]);
+    B.t_history.push_back(tv);
+    while (B.history.size() > keep) B.history.pop_front();
+    while (B.t_history.size() > keep) B.t_history.pop_front();
+  }
+  if (healthy_.learn(t, x)) critical_values();
+  drift_test(lidar_ok);
+  // Slow healthy adaptation, only while nothing is raised anywhere on the turbine.
+  if (!any_raised())
+    healthy_.adapt(x, revolution_time, {blades_[0].exceeding, blades_[1].exceeding, blades_[2].exceeding});
+}
+
+void ResidualTests::drift_test(bool lidar_ok) {
+  // Moving-window mean test (drift), once per revolution on non-overlapping windows.
+  BladeChannels dt{}, wm{}, drift_unit{};
+  for (auto& r : dt) r.fill(kNaN);
+  for (auto& r : wm) r.fill(kNaN);
+  const int W = c_.drift_window;
+  for (int b = 0; b < 3; ++b) {
+    const BladeState& B = blades_[b];
+    if (static_cast<int>(B.history.size()) < W) continue;
+    for (int c = 0; c < kChannels; ++c) {
+      const HealthyStats& h = healthy_.at(b, c);
+      if (!h.learned) continue;
+      // Gated revolutions (NaN) are left out; at least half the window must be there.
+      double sum = 0.0;
+      int m = 0;
+      for (int i = 0; i < W; ++i) {
+        const double v = B.history[B.history.size() - 1 - i][c];
+        if (std::isfinite(v)) sum += v, ++m;
+      }
+      if (2 * m >= W && m >= 2) {
+        dt[b][c] = h.drift_t(sum / m, m);
+        drift_unit[b][c] = h.drift_sd(m);
+        wm[b][c] = sum / m - h.mean;
+      }
+    }
+  }
+  // The window means' own noise level (faster turbulence raises the one-revolution spread more than a
+  // 10-revolution mean's: scaling the drift test by the former missed half the drifts of the suite).
+  drift_noise_.follow(wm, drift_unit);
+  for (int b = 0; b < 3; ++b)
+    for (int c = 0; c < kChannels; ++c) dt[b][c] /= drift_noise_.scale(c);
+  for (int b = 0; b < 3; ++b) {
+    BladeState& B = blades_[b];
+    B.drift_firing = false;
+    B.drift_channel = -1;
+    double best = 0.0;
+    for (int c = 0; c < kChannels; ++c) {
+      const double v = dt[b][c];
+      if (!std::isfinite(v) || std::fabs(v) <= drift_crit_[c]) continue;
+      if (!standalone(c, lidar_ok)) continue;
+      if (c == kModelChannel) {
+        if (c_.witness == Witness::kConfirm &&
+            !(std::isfinite(dt[b][kWitnessChannel]) && v * dt[b][kWitnessChannel] < 0 &&
+              std::fabs(dt[b][kWitnessChannel]) > witness_crit_))
+          continue;
+        // As in the outlier test: a failed gauge shifts only its own blade's LIDAR residual. Another blade's
+        // window mean beyond the onset level too means the wind differed from what the beams saw (measured at
+        // 8-11 m/s, TI 0.155: 10-revolution means of -98, +83 and +55 kN m on the three blades at once).
+        bool others_quiet = true;
+        for (int o = 0; o < 3; ++o)
+          if (o != b && std::isfinite(dt[o][c]) && std::fabs(dt[o][c]) > c_.onset_ratio * drift_crit_[c])
+            others_quiet = false;
+        if (!others_quiet) continue;
+      } else {
+        // Single-fault isolation as in the outlier test, on the window means' shifts (N m per N m, not t: the
+        // blades' healthy spreads differ): a faulty blade shifts its own cross residual by delta and the
+        // others' by -delta / 2, so it must differ from EACH other blade in the direction of its own shift.
+        const double dev = wm[b][c] - 0.5 * (wm[(b + 1) % 3][c] + wm[(b + 2) % 3][c]);
+        bool isolated = std::isfinite(dev);
+        for (int o = 0; o < 3 && isolated; ++o)
+          if (o != b &&
+              !((wm[b][c] - wm[o][c]) * (dev > 0 ? 1.0 : -1.0) >= c_.isolation_ratio * std::fabs(dev)))
+            isolated = false;
+        if (!isolated) continue;
+      }
+      if (std::fabs(v) / drift_crit_[c] > best) {
+        best = std::fabs(v) / drift_crit_[c];
+        B.drift_firing = true;
+        B.drift_t = v;
+        B.drift_channel = c;
+      }
+    }
+  }
+}
+
+void ResidualTests::hold() {
+  for (auto& B : blades_) {
+    B.run_start.fill(-1.0);
+    B.fast_start.fill(-1.0);
+    B.exceeding = false;
+  }
+}
+
+void ResidualTests::tick(double t, double revolution_time, const BladeChannels& x, const BladeEstimates& e,
+                         bool lidar_ok, std::vector<FaultEvent>& events) {
+  BladeChannels tv;
+  for (int b = 0; b < 3; ++b)
+    for (int c = 0; c < kChannels; ++c) {
+      tv[b][c] = t_value(b, c, x[b][c]);
+      if (std::isfinite(tv[b][c]) && crit_[c] > 0)
+        max_ratio_[c] = std::max(max_ratio_[c], std::fabs(tv[b][c]) / crit_[c]);
+    }
+  // Per blade: which eligible channels exceed now, and for how long each has done so with the same sign.
+  // A sensor fault is on ONE blade and stays: it must persist for confirm_time and at least
+  // confirm_revolutions (a single-revolution transient leaves the one-revolution window after one revolution,
+  // and the pitch-control transients seen in turbulence flip sign from one revolution to the next).
+  const double confirm_time = std::max(c_.confirm_time, c_.confirm_revolutions * revolution_time);
+  for (int b = 0; b < 3; ++b) {
+    BladeState& B = blades_[b];
+    int best_c = -1, conf_c = -1;
+    double best = 0.0, conf_best = 0.0;
+    bool above_onset = false;  // some channel in a same-sign run above the onset level
+    for (int c = 0; c < kChannels; ++c) {
+      const double v = tv[b][c];
+      // A run starts at the onset level (onset_ratio of the critical value); raising needs the critical
+      // value.
+      bool exceeds = std::isfinite(v) && std::fabs(v) > c_.onset_ratio * crit_[c] && standalone(c, lidar_ok);
+      if (exceeds && c == kModelChannel) {
+        exceeds = c_.witness != Witness::kConfirm ||
+                  (std::isfinite(tv[b][kWitnessChannel]) && v * tv[b][kWitnessChannel] < 0 &&
+                   std::fabs(tv[b][kWitnessChannel]) > witness_crit_);
+        // A failed gauge moves only its own blade's LIDAR residual. When another blade's residual is beyond
+        // the onset level too, the wind differs from what the two beams saw (an eddy off the vertical line,
+        // measured: +20 % on one blade and -20 % on another for 5 s at 14 m/s): not a sensor fault.
+        if (c_.witness == Witness::kConfirm)
+          for (int o = 0; o < 3; ++o)
+            if (o != b && std::isfinite(tv[o][kModelChannel]) &&
+                std::fabs(tv[o][kModelChannel]) > c_.onset_ratio * crit_[kModelChannel])
+              exceeds = false;
+      } else if (exceeds) {
+        // Single-fault isolation, the other two blades as witnesses: a faulty blade b moves its own cross
+        // residual by delta and the others' by -delta / 2, so b must differ from EACH other blade, in the
+        // direction of its own excursion, by at least isolation_ratio of its distance to their mean. A
+        // common-mode excursion leaves the cross residuals alone; a rotating (1P) pattern rarely passes,
+        // and never persistently with one sign.
+        const double dev = x[b][c] - 0.5 * (x[(b + 1) % 3][c] + x[(b + 2) % 3][c]);
+        for (int o = 0; o < 3; ++o)
+          if (o != b &&
+              !((x[b][c] - x[o][c]) * (dev > 0 ? 1.0 : -1.0) >= c_.isolation_ratio * std::fabs(dev)))
+            exceeds = false;
+      }
+      const int sign = v > 0 ? 1 : -1;
+      if (!exceeds) {
+        B.run_start[c] = B.fast_start[c] = -1.0;
+        continue;
+      }
+      if (B.run_start[c] < 0 || B.run_sign[c] != sign) {
+        B.run_start[c] = t;
+        B.run_sign[c] = sign;
+        B.fast_start[c] = -1.0;
+      }
+      above_onset = true;
+      const double r = std::fabs(v) / crit_[c];
+      // A large step: far above the critical value for fast_confirm_time confirms before a revolution.
+      const bool fast_now = c_.fast_ratio > 0 && r > c_.fast_ratio;
+      if (!fast_now)
+        B.fast_start[c] = -1.0;
+      else if (B.fast_start[c] < 0)
+        B.fast_start[c] = t;
+      if (r <= 1.0) continue;
+      if (r > best) best = r, best_c = c;
+      const bool fast = fast_now && t - B.fast_start[c] >= c_.fast_confirm_time - 1e-9;
+      if ((fast || t - B.run_start[c] >= confirm_time - 1e-9) && r > conf_best) conf_best = r, conf_c = c;
+    }
+    // Hysteresis: a raised episode stays evidenced while its run is above the onset level (half the critical
+    // value). Measured: a constant 10 % gain at 16 m/s dipped below the critical value for 3 s in turbulence
+    // about 45 s after its onset and was then re-classified as intermittent.
+    B.exceeding = best_c >= 0 || (!B.raised.empty() && above_onset);
+    const int c = conf_c >= 0 ? conf_c : best_c;
+    blade_decision(b, t, B.exceeding, conf_c >= 0, c >= 0 ? tv[b][c] : 0.0, c >= 0 ? crit_[c] : 0.0, c,
+                   residual_size(e, b, c), e, lidar_ok, events);
+  }
+}
+
+void ResidualTests::blade_decision(int b, double t, bool outlier, bool outlier_confirmed, double stat,
+                                   double critical, int channel, double size, const BladeEstimates& e,
+                                   bool lidar_ok, std::vector<FaultEvent>& events) {
+  BladeState& B = blades_[b];
+  const bool drift = B.drift_firing;
+  // The episode's evidence: the outlier test, and for a drift (raised or not yet) the moving-window test.
+  const bool drift_counts = drift && (B.raised.empty() || B.raised == "sensor_drift");
+  const bool active = outlier || drift_counts;
+  // The moving-window test also reacts to a step (its window mean jumps): a step is the outlier test's to
+  // classify, so the drift test raises only while the single-revolution values are still below threshold.
+  const bool by_drift = !outlier && drift_counts;
+  const bool confirmed = outlier_confirmed || by_drift;
+  std::string cls = "sensor_drift";
+  if (outlier_confirmed) {
+    // Step or ramp? Compare with the residual a few revolutions ago.
+    const auto& h = B.t_history;
+    const int back = c_.abrupt_lookback;
+    cls = "sensor_abrupt";
+    if (static_cast<int>(h.size()) > back && channel >= 0) {
+      const double past = h[h.size() - 1 - back][channel];
+      if (std::isfinite(past) && std::fabs(past) >= c_.abrupt_ratio * critical) cls = "sensor_drift";
+    }
+  }
+  std::vector<Transition> tr;
+  const double raised_at = B.episode.raised_at();
+  B.episode.update(t, active, confirmed, cls, tr);
+  for (const auto& x : tr) {
+    FaultEvent ev;
+    ev.t = t;
+    ev.t_detected = t;
+    ev.component = "blade_moment_sensor_" + std::to_string(b + 1);
+    ev.fault = x.fault;
+    ev.raised = x.raised;
+    ev.severity = "fault";
+    if (x.raised) {
+      const int c = by_drift ? B.drift_channel : channel;
+      ev.statistic = by_drift ? B.drift_t : stat;
+      ev.threshold = by_drift ? drift_crit_[std::max(c, 0)] : critical;
+      ev.size = size;
+      if (by_drift && c >= 0) {
+        // The window's mean residual, back in N m.
+        const double mean_all = (e.mean_sensor[0] + e.mean_sensor[1] + e.mean_sensor[2]) / 3.0;
+        const double v = B.history.back()[c] - healthy_.at(b, c).mean;
+        ev.size = c == kModelChannel ? -v * mean_all : v * mean_all;
+      }
+      ev.detail = std::string(by_drift ? "moving-window mean test on " : "persistent outlier t-test on ") +
+                  (c >= 0 ? channel_name(c) : "?") + (lidar_ok ? "" : " (no LIDAR: sensor-only)");
+      if (x.fault == "sensor_intermittent") ev.detail += "; evidence returned to healthy and reappeared";
+    } else {
+      ev.t_detected = raised_at;
+    }
+    events.push_back(ev);
+  }
+  B.raised = B.episode.raised();
+}
+
+}  // namespace windfdi::blade_load

@@ -1,0 +1,114 @@
+// The tests on each blade's residual channels (Stotsky 2014: a t-test per sample for outliers, a
+// moving-window mean test for drift), their confirmation and single-blade isolation, and the fault classes
+// they raise.
+#pragma once
+
+#include <array>
+#include <deque>
+#include <string>
+#include <vector>
+
+#include "episode_classifier.hpp"
+#include "fault_event.hpp"
+#include "healthy_channels.hpp"
+#include "noise_follower.hpp"
+#include "residual_channels.hpp"
+
+namespace windfdi::blade_load {
+
+enum class Witness { kOff, kConfirm };
+
+/// Detection (Stotsky 2014: t-test per sample for outliers, moving-window mean test for drift).
+struct DetectionConfig {
+  // The two tests.
+  double significance = 1e-8;        ///< two-sided level of the outlier t-test per 10 Hz sample (0..0.1)
+  double drift_significance = 1e-8;  ///< two-sided level of the moving-window mean test per revolution
+  int drift_window = 10;             ///< revolutions in the moving-window mean
+  // Confirmation of an outlier run.
+  double confirm_time = 1.0;  ///< s of continuous same-sign exceedance of one channel to raise (0.1..600)
+  /// And at least this many revolutions (0..20): a single-revolution transient stays in the one-revolution
+  /// window for exactly one revolution.
+  double confirm_revolutions = 1.1;
+  double onset_ratio = 0.5;  ///< a run of exceedance starts above this share of the critical value (0.1..1)
+  double fast_ratio = 1.25;  ///< a large step: above this multiple of the critical value (0: off) ...
+  double fast_confirm_time = 1.0;  ///< ... continuously for this long (s) raises before confirm_revolutions
+  // Isolation: the other blades as witnesses.
+  double isolation_ratio = 0.5;  ///< cross-blade channels: the other two blades must agree with each other,
+                                 ///< |x_o1 - x_o2| <= this * |x_b - mean(x_o)| (a single-sensor fault, 0..2)
+  Witness witness = Witness::kConfirm;  ///< kConfirm: the LIDAR residual counts only if the cross-blade
+                                        ///< amplitude residual agrees (sign and witness_significance)
+  double witness_significance = 1e-2;   ///< two-sided level of that agreement
+  bool mean_test = true;  ///< cross-blade mean-load test (the only one that sees an offset or drift)
+  // Class of a confirmed outlier: abrupt or drift.
+  double abrupt_ratio = 0.5;  ///< abrupt if two revolutions before detection |t| was below this share of
+                              ///< the critical value (the residual stepped), else drift (it ramped)
+  int abrupt_lookback = 2;    ///< revolutions back for that comparison
+};
+
+/// The tests of the three blades of one turbine, with the healthy statistics they compare with. Time and the
+/// channel values come in; raised and cleared classes go out as FaultEvents.
+class ResidualTests {
+ public:
+  ResidualTests(const DetectionConfig& detection, const LearningConfig& learning,
+                const EpisodeConfig& episode);
+
+  /// Once per revolution, at time t (s) with the revolution time (s) and the revolution's channel values
+  /// (NaN: not available; all NaN on a window the gate holds): follows the noise level, learns and adapts
+  /// the healthy statistics, runs the moving-window mean test. `lidar_ok`: the LIDAR channels may judge.
+  void revolution(double t, double revolution_time, const BladeChannels& x, bool lidar_ok);
+  /// At the estimate rate on a window the gate holds: no run continues through it, an episode is held as it
+  /// is.
+  void hold();
+  /// At the estimate rate: the outlier test of each blade on the channel values `x` of the estimates `e`,
+  /// its confirmation, the classes raised and cleared (in `events`).
+  void tick(double t, double revolution_time, const BladeChannels& x, const BladeEstimates& e, bool lidar_ok,
+            std::vector<FaultEvent>& events);
+
+  const HealthyChannels& healthy() const { return healthy_; }
+  /// Restores saved healthy statistics and the critical values that follow from them.
+  void restore(const BladeHealthy& s);
+  /// Largest |outlier t| / critical value seen per channel after learning (a healthy run's margin).
+  double max_ratio(int channel) const { return max_ratio_[channel]; }
+  /// The factor a channel's t-values are divided by now (>= 1; noise_revolutions).
+  double noise_scale(int channel) const { return noise_.scale(channel); }
+  /// The class raised on a blade ("" when none).
+  const std::string& raised(int blade) const { return blades_[blade].raised; }
+  bool any_raised() const;
+  /// Some channel of the blade is above its threshold now (or, raised, above its onset level).
+  bool exceeding(int blade) const { return blades_[blade].exceeding; }
+
+ private:
+  struct BladeState {
+    std::deque<std::array<double, kChannels>> history;    // per-revolution values
+    std::deque<std::array<double, kChannels>> t_history;  // per-revolution outlier t
+    std::array<double, kChannels>
+        run_start{};  // start of the channel's continuous same-sign exceedance (-1 none)
+    std::array<int, kChannels> run_sign{};
+    std::array<double, kChannels> fast_start{};  // start of the run's stretch above fast_ratio (-1 none)
+    bool exceeding = false;                      // any eligible channel above its threshold now
+    bool drift_firing = false;
+    double drift_t = 0.0;
+    int drift_channel = -1;
+    std::string raised;  // class raised, "" none (mirrors the classifier)
+    EpisodeClassifier episode;
+  };
+
+  void critical_values();
+  bool standalone(int channel, bool lidar_ok) const;       // may decide alone now
+  double t_value(int blade, int channel, double x) const;  // NaN when not learned or x is not available
+  void follow_noise(const BladeChannels& x);
+  void drift_test(bool lidar_ok);
+  void blade_decision(int b, double t, bool active, bool confirmed, double stat, double crit, int channel,
+                      double size, const BladeEstimates& e, bool lidar_ok, std::vector<FaultEvent>& events);
+
+  DetectionConfig c_;
+  HealthyChannels healthy_;
+  std::array<BladeState, 3> blades_;
+  std::array<double, kChannels> max_ratio_{};
+  std::array<double, kChannels> crit_{}, drift_crit_{};
+  double witness_crit_ = 0.0;
+  NoiseFollower noise_;        // of the one-revolution values
+  NoiseFollower drift_noise_;  // of the drift test's window means
+};
+
+}  // namespace windfdi::blade_load

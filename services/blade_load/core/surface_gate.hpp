@@ -1,0 +1,48 @@
+// The steep-surface gate: no test, learning or adaptation on a window whose load the model does not determine
+// (a blade's pitch where k_M(lambda, pitch) is steep, Stotsky 2014 eq 9) or whose model inputs are suspect.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "frame_sample.hpp"
+#include "load_model.hpp"
+
+namespace windfdi::blade_load {
+
+/// Steep-surface gate (YAML keys `gate_pitch_margin`, `gate_max_sensitivity`, `gate_pitch_filter`): where
+/// k_M(lambda, pitch) changes by more than max_sensitivity (relative) within +/- pitch_margin deg of a
+/// blade's (low-passed) measured pitch, neither the table (0.5 deg nodes) nor the pitch measurement (0.2 deg
+/// noise) determines the load: the plant's Heier Cp is singular at -1 deg (beta^3 + 1 = 0), where the thrust
+/// drops from ~0.5 to 0 within 0.3 deg. Every window that holds such a sample is not tested (and not
+/// learned); an episode in progress is held, neither confirmed nor quiet.
+struct GateConfig {
+  double pitch_margin = 0.25;     ///< deg (0: no gate)
+  double max_sensitivity = 0.25;  ///< (max - min) / max of k_M over pitch +/- margin
+  double pitch_filter = 0.2;      ///< s, low-pass of the measured pitch for the gate (noise 0.2 deg)
+};
+
+class SurfaceGate {
+ public:
+  /// `dt`: the sample period (s).
+  SurfaceGate(const GateConfig& c, double dt) : c_(c), dt_(dt) {}
+  /// Relative spread of k_M over pitch +/- pitch_margin at (lambda, pitch) (0 when k_M is 0 there).
+  double sensitivity(const LoadTable& table, double lambda, double pitch_deg) const;
+  /// One sample: each blade's pitch (deg) at the tip-speed ratio of the last delayed LIDAR value (0: none
+  /// yet). The gate closes on it when a blade is on a steep part of the table or `suspect` (an input of the
+  /// model is suspect).
+  void update(const LoadTable& table, double lambda, const std::array<double, 3>& pitch, bool suspect);
+  /// The last `window` samples hold one the gate closed on.
+  bool holds(uint64_t window) const { return since_closed_ < window; }
+  /// Samples on which the gate closed.
+  uint64_t closed_samples() const { return closed_samples_; }
+
+ private:
+  GateConfig c_;
+  double dt_;
+  std::array<double, 3> pitch_lp_{kNaN, kNaN, kNaN};
+  uint64_t since_closed_ = UINT64_MAX / 2;  // samples since the last sample the gate closed on
+  uint64_t closed_samples_ = 0;
+};
+
+}  // namespace windfdi::blade_load

@@ -1,0 +1,48 @@
+// Whether the inputs the LIDAR load model relies on (rotor speed for lambda, each blade's pitch for k_M) can
+// be trusted: the redundant speed sensors, each pitch against its reference, and what the rest of the system
+// reports (input_context.hpp).
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "frame_sample.hpp"
+#include "input_context.hpp"
+
+namespace windfdi::blade_load {
+
+/// Inputs the load model relies on (rotor speed for lambda, each blade's pitch for k_M): while one is suspect
+/// no window is tested or learned (the steep-surface gate's hold), and an episode in progress is held.
+struct SuspectInputConfig {
+  double gear_ratio = 0.0;       ///< N (turbine file): the generator speed / N is the rotor speed's twin
+  double speed_mismatch = 0.05;  ///< relative |omega_r - omega_g / N| / omega_r (0.5 s low-pass) above which
+                                 ///< the two speed sensors disagree: lambda is not known (0..1, 0: off)
+  double pitch_mismatch = 3.0;  ///< deg, |pitch_i - pitch_ref_i| (0.5 s low-pass) above which blade i's pitch
+                                ///< reading or its actuator is not what the model assumes (0: off; healthy
+                                ///< lag 1 deg at 10 deg/s)
+  double context_hold = 10.0;   ///< s held after another service raised or cleared a fault on an input the
+                                ///< model uses (a speed or pitch sensor, an actuator), or the arbiter
+                                ///< reconfigured the controller; held as long as such a fault stays raised
+};
+
+class SuspectInputs {
+ public:
+  /// `dt`: the sample period (s).
+  SuspectInputs(const SuspectInputConfig& c, double dt) : c_(c), dt_(dt), hold_(c.context_hold) {}
+  /// One sample: true when an input of the load model is suspect now (counted).
+  bool update(const FrameSample& s);
+  /// The inputs' context (input_context.hpp) from sample time t on.
+  void set_context(const InputContext& context, double t) { hold_.set(context, t); }
+  /// Samples on which an input was suspect.
+  uint64_t suspect_samples() const { return suspect_samples_; }
+
+ private:
+  SuspectInputConfig c_;
+  double dt_;
+  SuspectHold hold_;
+  double speed_mismatch_lp_ = 0.0;
+  std::array<double, 3> pitch_mismatch_lp_{};
+  uint64_t suspect_samples_ = 0;
+};
+
+}  // namespace windfdi::blade_load
