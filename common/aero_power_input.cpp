@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-namespace windfdi::ice_detect {
+namespace windfdi {
 
 double model_aero_power(const AeroModel& aero, double wind, const FrameSample& s,
                         const PowerModelLimits& limits) {
@@ -54,4 +54,4 @@ bool AeroPowerInput::push(const FrameSample& s, bool gap, FrameSample& out, bool
   return true;
 }
 
-}  // namespace windfdi::ice_detect
+}  // namespace windfdi

@@ -1,5 +1,5 @@
-// Aerodynamic power for the inertia regression: the recording's column, or the turbine model on a centred
-// anemometer average (Stotsky & Egardt 2013 take the power as known; the plant's anemometer makes it noisy).
+// Aerodynamic power from the turbine model on a centred anemometer average (or the recording's column), read
+// by ice_detect's inertia regression and drive_train's energy balance.
 #pragma once
 
 #include <cstddef>
@@ -8,7 +8,7 @@
 #include "frame_sample.hpp"
 #include "turbine_params.hpp"
 
-namespace windfdi::ice_detect {
+namespace windfdi {
 
 /// Plausible measurements for the power model: beyond them a sample has no power (NaN), not a wild one.
 struct PowerModelLimits {
@@ -53,4 +53,4 @@ class AeroPowerInput {
 double model_aero_power(const AeroModel& aero, double wind, const FrameSample& s,
                         const PowerModelLimits& limits = {});
 
-}  // namespace windfdi::ice_detect
+}  // namespace windfdi
