@@ -1,6 +1,7 @@
 // Turbine-level fault isolation over the fault-signature table.
 #include "isolation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -36,6 +37,10 @@ const std::vector<Signature>& signature_table() {
        "the blade's load follows its real pitch"},
       {"rotor", "ice_accretion,ice_shedding", "blade_load", "blade_moment_sensor_*",
        "ice changes the blades' aerodynamics and mass"},
+      {"rotor", "ice_accretion", "drive_train", "drive_train",
+       "ice lowers the rotor's Cp, which the drive train's energy balance reads as an efficiency loss before "
+       "ice_detect has weighed the ice by the rotor's inertia",
+       900.0},
   };
   return t;
 }
@@ -87,6 +92,12 @@ bool is_blade_sensor_family(const std::string& c) {
 
 bool explains(const Report& root, const Report& responder) { return row_for(root, responder) != nullptr; }
 
+double longest_lead(const IsolationConfig& config) {
+  double lead = config.lead;
+  for (const auto& s : signature_table()) lead = std::max(lead, s.lead);
+  return lead;
+}
+
 std::vector<Verdict> isolate(const std::vector<Report>& reports, const IsolationConfig& c) {
   const std::size_t n = reports.size();
   std::vector<Verdict> out(n);
@@ -95,7 +106,8 @@ std::vector<Verdict> isolate(const std::vector<Report>& reports, const Isolation
     for (std::size_t s = 0; s < n; ++s) {
       const Report& S = reports[s];
       const Signature* row = s == r ? nullptr : row_for(S, R);
-      if (!row || R.t_detected < S.t_detected - c.lead) continue;  // R came long before: not S's echo
+      const double lead = row && row->lead > 0.0 ? row->lead : c.lead;
+      if (!row || R.t_detected < S.t_detected - lead) continue;  // R came long before: not S's echo
       if (explains(R, S)) {
         // Each explains the other: the one seen first is the root; a sensor wins a tie.
         const bool s_first = S.t_detected < R.t_detected || (S.t_detected == R.t_detected &&

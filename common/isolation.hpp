@@ -16,6 +16,9 @@ struct Signature {
   const char* responder_source;  ///< the service whose residual responds
   const char* responder_component;
   const char* why;  ///< the physical path, for the report's "explained by" detail
+  /// s the responder may be detected before its root by this row (0: IsolationConfig::lead). A slow root
+  /// (ice, confirmed by its inertia after minutes) explains a fast responder that saw it first.
+  double lead = 0.0;
 };
 
 /// The table (documented in deploy/arbiter/DECISION_TABLE.md "Isolation"; every row is a unit test).
@@ -47,6 +50,10 @@ struct IsolationConfig {
 /// table row and did not itself follow it: two reports that explain each other (a pitch sensor and its
 /// actuator) are decided by which was detected first, a sensor winning a tie.
 std::vector<Verdict> isolate(const std::vector<Report>& reports, const IsolationConfig& config = {});
+
+/// The longest time any row lets a responder precede its root (s): reports that far apart must be isolated
+/// together.
+double longest_lead(const IsolationConfig& config = {});
 
 /// True when a row of the table says that `root` explains `responder` (blades bound where the row says so).
 bool explains(const Report& root, const Report& responder);

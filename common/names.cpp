@@ -9,9 +9,9 @@ namespace windfdi {
 
 const std::vector<std::string>& fault_class_names() {
   static const std::vector<std::string> n = {
-      "none",          "sensor_abrupt", "sensor_drift",      "sensor_intermittent",
-      "sensor_bias",   "pump_wear",     "hydraulic_leakage", "high_air_content",
-      "ice_accretion", "ice_shedding",  "sensor_invalid",    "service_lost"};
+      "none",           "sensor_abrupt",     "sensor_drift",     "sensor_intermittent", "sensor_bias",
+      "pump_wear",      "hydraulic_leakage", "high_air_content", "ice_accretion",       "ice_shedding",
+      "sensor_invalid", "service_lost",      "torque_offset",    "efficiency_loss"};
   return n;
 }
 
@@ -33,7 +33,9 @@ const std::vector<std::string>& component_names() {
                                              "pitch_actuator_2",
                                              "pitch_actuator_3",
                                              "rotor",
-                                             "lidar"};
+                                             "lidar",
+                                             "converter",
+                                             "drive_train"};
   return n;
 }
 
@@ -60,6 +62,8 @@ std::vector<std::string> fault_classes_for(const std::string& c) {
   if (starts("pitch_actuator_")) return {"pump_wear", "hydraulic_leakage", "high_air_content"};
   if (c == "rotor") return {"ice_accretion", "ice_shedding"};
   if (c == "lidar") return {"sensor_invalid"};
+  if (c == "converter") return {"torque_offset"};
+  if (c == "drive_train") return {"efficiency_loss"};
   if (name_index(service_names(), c) >= 0) return {"service_lost"};
   return {};
 }

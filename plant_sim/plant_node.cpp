@@ -81,6 +81,7 @@ ControlInput to_input(const windfdi::ControlConfiguration& c) {
   for (std::size_t i = 0; i < 3; ++i) s.pitch_rate_limit[i] = c.pitch_rate_limit()[i];
   s.use_corrected_generator_speed = c.use_corrected_generator_speed();
   s.inertia = c.inertia();
+  s.torque_compensation = c.torque_compensation();
   return control_input(s);
 }
 

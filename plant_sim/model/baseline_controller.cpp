@@ -59,7 +59,8 @@ ControllerOutput BaselineController::step(double t, const ControlInput& in, cons
   static const double cp_max = AeroModel::power_coefficient(lambda_opt, 0.0);
   const double k_opt = 0.5 * p_.air_density * p_.rotor_area() * std::pow(p_.rotor_radius, 3) * cp_max /
                        std::pow(lambda_opt, 3) / std::pow(p_.gear_ratio, 3);
-  out.torque_ref = std::min(k_opt * speed_filtered_ * speed_filtered_, torque_max);
+  // The command the converter gets: the arbiter takes a converter's estimated offset off it.
+  out.torque_ref = std::min(k_opt * speed_filtered_ * speed_filtered_, torque_max) - in.torque_compensation;
 
   // Region 3: gain-scheduled PI on generator speed; gains scale with the (iced) inertia when adapted.
   const double inertia_scale = in.inertia > 0.0 ? in.inertia / p_.lumped_inertia() : 1.0;

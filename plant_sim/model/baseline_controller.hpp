@@ -22,7 +22,8 @@ struct ControlInput {
   std::array<double, 3> pitch_rate_limit{10.0, 10.0, 10.0};  ///< deg/s per blade
   bool use_corrected_generator_speed = false;
   double corrected_generator_speed = kNaN;  ///< rad/s, from wt/estimate/sensor_bias
-  double inertia = 0.0;  ///< kg m^2 generator side for the ice-adapted controller (0: nominal)
+  double inertia = 0.0;              ///< kg m^2 generator side for the ice-adapted controller (0: nominal)
+  double torque_compensation = 0.0;  ///< N m taken off the converter's torque command (a converter offset)
 };
 
 /// Baseline controller gains (plant_sim/README.md).

@@ -18,7 +18,8 @@ struct ControlSettings {
   control::IceMode ice_mode = control::IceMode::kNormal;
   std::array<double, 3> pitch_rate_limit{10.0, 10.0, 10.0};  ///< deg/s per blade
   bool use_corrected_generator_speed = false;
-  double inertia = 0.0;  ///< kg m^2 generator side (0: nominal)
+  double inertia = 0.0;              ///< kg m^2 generator side (0: nominal)
+  double torque_compensation = 0.0;  ///< N m off the converter's torque command
 };
 
 /// What the controller is asked to do: a rate limit that is not finite and positive is the actuator's own
@@ -33,6 +34,7 @@ inline ControlInput control_input(const ControlSettings& s) {
   }
   in.use_corrected_generator_speed = s.use_corrected_generator_speed;
   in.inertia = std::isfinite(s.inertia) && s.inertia > 0.0 ? s.inertia : 0.0;
+  in.torque_compensation = std::isfinite(s.torque_compensation) ? s.torque_compensation : 0.0;
   return in;
 }
 

@@ -24,6 +24,7 @@ windfdi::ControlConfiguration to_idl(const Configuration& c, const std::string& 
   out.pitch_rate_limit(c.pitch_rate_limit);
   out.ice_mode(bus::to_idl(c.ice_mode));
   out.inertia(c.inertia);
+  out.torque_compensation(c.torque_compensation);
   for (const auto& r : c.reasons) {
     if (out.reasons().size() >= 32) break;  // IDL bound; the most important are first after sorting
     windfdi::ConfigurationReason reason;

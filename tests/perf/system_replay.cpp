@@ -18,6 +18,7 @@
 #include "configuration_lease.hpp"
 #include "decision.hpp"
 #include "deploy_dir.hpp"
+#include "drive_train_service.hpp"
 #include "ice_service.hpp"
 #include "input_context.hpp"
 #include "pitch_service.hpp"
@@ -55,6 +56,7 @@ plant::ControlInput control_input(const arbiter::Configuration& c) {
   s.pitch_rate_limit = c.pitch_rate_limit;
   s.use_corrected_generator_speed = c.use_corrected_generator_speed;
   s.inertia = c.inertia;
+  s.torque_compensation = c.torque_compensation;
   return plant::control_input(s);
 }
 
@@ -63,7 +65,8 @@ bool same_control(const arbiter::Configuration& a, const arbiter::Configuration&
   return a.mode == b.mode && a.ipc_source == b.ipc_source &&
          a.use_corrected_rotor_speed == b.use_corrected_rotor_speed &&
          a.use_corrected_generator_speed == b.use_corrected_generator_speed && a.ice_mode == b.ice_mode &&
-         a.use_corrected_pitch == b.use_corrected_pitch && a.pitch_rate_limit == b.pitch_rate_limit;
+         a.use_corrected_pitch == b.use_corrected_pitch && a.pitch_rate_limit == b.pitch_rate_limit &&
+         a.torque_compensation == b.torque_compensation;
 }
 
 int column_of(const ServiceSpec& spec, const std::string& name) {
@@ -99,7 +102,7 @@ int main(int argc, char** argv) {
   try {
     std::vector<Service> services;
     for (auto make : {blade_load::blade_load_spec, sensor_bias::sensor_bias_spec, pitch_diag::pitch_diag_spec,
-                      ice_detect::ice_detect_spec}) {
+                      ice_detect::ice_detect_spec, drive_train::drive_train_spec}) {
       Service s{make(), {}, {}, {}};
       s.spec.configure(YamlSection::load_file(config_dir + "/" + s.spec.name + ".yaml"));
       services.push_back(std::move(s));

@@ -13,8 +13,8 @@ namespace windfdi::arbiter {
 ArbiterConfig load_arbiter_config(const YamlSection& s) {
   s.require_known_keys({"clear_hold", "nominal_pitch_rate", "derated_pitch_rate", "rotor_speed_bias_limit",
                         "generator_speed_bias_limit", "pitch_bias_limit", "has_lidar", "inertia_step",
-                        "stop_confirm_time", "class_settle_time", "isolation_lead",
-                        "isolation_common_window"});
+                        "stop_confirm_time", "class_settle_time", "isolation_lead", "isolation_common_window",
+                        "efficiency_derate_drop", "max_torque_compensation"});
   ArbiterConfig c;
   c.clear_hold = s.get_number("clear_hold", c.clear_hold, 0.0, 3600.0);
   c.nominal_pitch_rate = s.get_number("nominal_pitch_rate", c.nominal_pitch_rate, 1.0, 30.0);
@@ -29,6 +29,8 @@ ArbiterConfig load_arbiter_config(const YamlSection& s) {
   c.inertia_step = s.get_number("inertia_step", c.inertia_step, 0.0, 0.5);
   c.stop_confirm_time = s.get_number("stop_confirm_time", c.stop_confirm_time, 0.0, 600.0);
   c.class_settle_time = s.get_number("class_settle_time", c.class_settle_time, 0.0, 3600.0);
+  c.efficiency_derate_drop = s.get_number("efficiency_derate_drop", c.efficiency_derate_drop, 0.0, 1.0);
+  c.max_torque_compensation = s.get_number("max_torque_compensation", c.max_torque_compensation, 0.0, 1e5);
   c.isolation.lead = s.get_number("isolation_lead", c.isolation.lead, 0.0, 600.0);
   c.isolation.common_window = s.get_number("isolation_common_window", c.isolation.common_window, 0.0, 600.0);
   return c;
@@ -39,7 +41,8 @@ bool Configuration::operator==(const Configuration& o) const {
          use_corrected_rotor_speed == o.use_corrected_rotor_speed &&
          use_corrected_generator_speed == o.use_corrected_generator_speed &&
          use_corrected_pitch == o.use_corrected_pitch && pitch_rate_limit == o.pitch_rate_limit &&
-         ice_mode == o.ice_mode && inertia == o.inertia && reasons == o.reasons;
+         ice_mode == o.ice_mode && inertia == o.inertia && torque_compensation == o.torque_compensation &&
+         reasons == o.reasons;
 }
 
 Arbiter::Arbiter(const ArbiterConfig& config) : config_(config) {}
@@ -212,6 +215,24 @@ void Arbiter::apply(Cause& cause, double now, Configuration& cfg) {
       reason("ice_mode=adapted");
     } else {
       reason("farm_alarm");
+    }
+  } else if (e.component == "converter" && e.fault == "torque_offset") {
+    // The benchmark's converter offset: the command is corrected by the estimated offset, so the generator
+    // gives the torque the controller asked for; the converter needs service.
+    if (std::fabs(e.size) <= config_.max_torque_compensation) {
+      cfg.torque_compensation = e.size;
+      reason("torque_compensation=" + std::to_string(static_cast<long>(std::lround(e.size))) +
+             " N m; maintenance");
+    } else {
+      demand(cfg.mode, Mode::kDegraded);
+      reason("mode=degraded (offset beyond compensation); maintenance");
+    }
+  } else if (e.component == "drive_train" && e.fault == "efficiency_loss") {
+    if (e.size >= config_.efficiency_derate_drop) {
+      demand(cfg.mode, Mode::kDegraded);
+      reason("mode=degraded (efficiency loss beyond efficiency_derate_drop); maintenance");
+    } else {
+      reason("maintenance");
     }
   }
   // Any other critical report latches once it has held for stop_confirm_time (an actuator's latches only with

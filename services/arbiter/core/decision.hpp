@@ -43,6 +43,11 @@ struct ArbiterConfig {
   /// s after another class was raised on the same component during which its class is uncertain (0..3600):
   /// "high_air_content or hydraulic_leakage" gets the most conservative reversible action, never a stop.
   double class_settle_time = 30.0;
+  /// Relative drive-train efficiency loss (drive_train's estimate) from which the turbine runs degraded: the
+  /// gearbox turns the lost power into heat (0..1; 0.1: 0.97 -> 0.87).
+  double efficiency_derate_drop = 0.1;
+  /// Largest converter torque offset (N m) the arbiter compensates in the torque command (0: never).
+  double max_torque_compensation = 2000.0;
   isolation::IsolationConfig isolation;  ///< keys isolation_lead, isolation_common_window (s)
 };
 
@@ -68,8 +73,9 @@ struct Configuration {
   std::array<bool, 3> use_corrected_pitch{false, false, false};
   std::array<double, 3> pitch_rate_limit{10.0, 10.0, 10.0};  ///< deg/s
   IceMode ice_mode = IceMode::kNormal;
-  double inertia = 0.0;         ///< kg m^2 for the adapted controller (0: nominal)
-  std::vector<Reason> reasons;  ///< sorted
+  double inertia = 0.0;              ///< kg m^2 for the adapted controller (0: nominal)
+  double torque_compensation = 0.0;  ///< N m taken off the converter's torque command (a converter offset)
+  std::vector<Reason> reasons;       ///< sorted
   /// Same control content and reasons (the revision is the node's business).
   bool operator==(const Configuration& o) const;
   bool operator!=(const Configuration& o) const { return !(*this == o); }

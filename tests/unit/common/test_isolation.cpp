@@ -30,9 +30,9 @@ TEST_P(SignatureRow, RootExplainsItsResponderAndNotTheOtherWayRound) {
   ASSERT_TRUE(v[1].secondary) << k.name;
   EXPECT_EQ(v[1].explained_by, k.root.component + " " + k.root.fault);
   EXPECT_FALSE(v[1].why.empty());
-  // AND a responder detected long (> lead) before the root is its own root
+  // AND a responder detected long (beyond any row's lead) before the root is its own root
   Report early = k.responder;
-  early.t_detected = k.root.t_detected - 60.0;
+  early.t_detected = k.root.t_detected - longest_lead() - 60.0;
   EXPECT_FALSE(isolate({k.root, early})[1].secondary) << k.name;
 }
 
@@ -70,12 +70,28 @@ INSTANTIATE_TEST_SUITE_P(
         RowCase{"pitch_actuator_blade_load", report("pitch_diag", "pitch_actuator_2", "pump_wear", 10),
                 report("blade_load", "blade_moment_sensor_2", "sensor_drift", 12)},
         RowCase{"ice_blade_load", report("ice_detect", "rotor", "ice_accretion", 10),
-                report("blade_load", "blade_moment_sensor_2", "sensor_drift", 12)}),
+                report("blade_load", "blade_moment_sensor_2", "sensor_drift", 12)},
+        RowCase{"ice_drive_train", report("ice_detect", "rotor", "ice_accretion", 10),
+                report("drive_train", "drive_train", "efficiency_loss", 12)}),
     [](const ::testing::TestParamInfo<RowCase>& row) { return std::string(row.param.name); });
 
 TEST(Isolation, EveryTableRowHasACase) {
   // The parameterised cases above cover each row once; a new row needs a new case.
-  EXPECT_EQ(signature_table().size(), 14u);
+  EXPECT_EQ(signature_table().size(), 15u);
+}
+
+TEST(Isolation, IceExplainsAnEfficiencyLossTheEnergyBalanceSawMinutesBefore) {
+  // GIVEN an efficiency loss raised 10 min before ice_detect weighed the ice
+  const auto v = isolate({report("drive_train", "drive_train", "efficiency_loss", 1000),
+                          report("ice_detect", "rotor", "ice_accretion", 1600)});
+  // THEN the efficiency loss is the ice's echo, and the ice the root
+  EXPECT_TRUE(v[0].secondary);
+  EXPECT_FALSE(v[1].secondary);
+  // AND an efficiency loss 20 min before is a fault of its own
+  EXPECT_FALSE(isolate({report("drive_train", "drive_train", "efficiency_loss", 400),
+                        report("ice_detect", "rotor", "ice_accretion", 1600)})[0]
+                   .secondary);
+  EXPECT_GE(longest_lead(), 900.0);
 }
 
 TEST(Isolation, BladeBoundRowsDoNotCrossBlades) {

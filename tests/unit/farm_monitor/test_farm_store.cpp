@@ -139,11 +139,16 @@ TEST(FaultReportTable, MatchesInjectedFaultsWithDetectionsAndReactions) {
   // GIVEN a leak injected at 120 s and a blade gain at 90 s, and a history with the leak detected at 126.5 s
   std::vector<InjectedFault> injected = {{"WT02", "pitch_actuator_3", "hydraulic_leakage", 120.0, "", ""},
                                          {"WT01", "blade_moment_2", "gain", 90.0, "", ""},
-                                         {"WT01", "converter", "torque_offset", 50.0, "", ""}};
+                                         {"WT01", "wind_hub", "bias", 50.0, "", ""}};
   for (auto& i : injected) std::tie(i.component, i.fault) = expected_detection(i.target, i.type);
   EXPECT_EQ(injected[1].component, "blade_moment_sensor_2");
   EXPECT_EQ(injected[1].fault, "sensor_abrupt");
-  EXPECT_EQ(injected[2].component, "");
+  EXPECT_EQ(injected[2].component, "");  // no service watches the anemometer
+  // The benchmark's converter and drive-train faults are drive_train's classes.
+  EXPECT_EQ(expected_detection("converter", "torque_offset"),
+            std::make_pair(std::string("converter"), std::string("torque_offset")));
+  EXPECT_EQ(expected_detection("drive_train", "efficiency"),
+            std::make_pair(std::string("drive_train"), std::string("efficiency_loss")));
   FaultEvent e = fault("WT02", "pitch_actuator_3", "hydraulic_leakage", 127.0);
   e.t_detected = 126.5;
   std::vector<HistoryRow> history = {

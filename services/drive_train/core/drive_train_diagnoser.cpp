@@ -1,0 +1,174 @@
+// One turbine's converter and drive-train diagnosis.
+#include "drive_train_diagnoser.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace windfdi::drive_train {
+
+DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams& turbine) {
+  // clang-format off
+  s.require_known_keys({"turbine_file", "estimate_rate", "wind_window", "min_offset", "cusum_threshold",
+                        "noise_learn_time", "noise_floor", "witness_ratio", "offset_clear_time",
+                        "block_time", "test_time", "reference_gap", "reference_time", "efficiency_step",
+                        "efficiency_clear_ratio", "efficiency_clear_time", "min_power_share", "max_pitch",
+                        "min_generator_speed", "max_torque", "max_generator_speed", "max_power",
+                        "sample_time", "iced_inertia_ratio", "context_lookback"});
+  // clang-format on
+  DiagnoserConfig c;
+  c.sample_time = s.get_number("sample_time", c.sample_time, 1e-4, 1.0);
+  ConverterConfig& v = c.converter;
+  v.time_constant = turbine.converter_time_constant;
+  v.generator_efficiency = turbine.generator_efficiency;
+  v.min_offset = s.get_number("min_offset", v.min_offset, 1.0, 1e5);
+  v.cusum_threshold = s.get_number("cusum_threshold", v.cusum_threshold, 1.0, 100.0);
+  v.noise_learn_time = s.get_number("noise_learn_time", v.noise_learn_time, 1.0, 3600.0);
+  v.noise_floor = s.get_number("noise_floor", v.noise_floor, 0.001, 1e4);
+  v.witness_ratio = s.get_number("witness_ratio", v.witness_ratio, 0.01, 1.0);
+  v.clear_time = s.get_number("offset_clear_time", v.clear_time, 0.0, 600.0);
+  EfficiencyConfig& e = c.efficiency;
+  e.gear_ratio = turbine.gear_ratio;
+  e.rotor_inertia = turbine.rotor_inertia;
+  e.generator_inertia = turbine.generator_inertia;
+  e.rotor_friction = turbine.rotor_friction;
+  e.generator_friction = turbine.generator_friction;
+  e.rated_power = turbine.rated_power;
+  e.block_time = s.get_number("block_time", e.block_time, 1.0, 600.0);
+  e.test_time = s.get_number("test_time", e.test_time, e.block_time, 3600.0);
+  e.reference_gap = s.get_number("reference_gap", e.reference_gap, 0.0, 3600.0);
+  e.reference_time = s.get_number("reference_time", e.reference_time, e.block_time, 36000.0);
+  e.step = s.get_number("efficiency_step", e.step, 0.001, 0.5);
+  e.clear_ratio = s.get_number("efficiency_clear_ratio", e.clear_ratio, 0.0, 1.0);
+  e.clear_time = s.get_number("efficiency_clear_time", e.clear_time, 0.0, 3600.0);
+  e.min_power_share = s.get_number("min_power_share", e.min_power_share, 0.0, 1.0);
+  e.max_pitch = s.get_number("max_pitch", e.max_pitch, 0.0, 90.0);
+  e.min_generator_speed = s.get_number("min_generator_speed", e.min_generator_speed, 0.0, 1000.0);
+  e.iced_inertia_ratio = s.get_number("iced_inertia_ratio", e.iced_inertia_ratio, 1.0, 10.0);
+  v.min_generator_speed = e.min_generator_speed;
+  c.estimate_rate = s.get_number("estimate_rate", c.estimate_rate, 0.01, 100.0);
+  c.wind_window = s.get_number("wind_window", c.wind_window, 0.0, 60.0);
+  c.context_lookback = s.get_number("context_lookback", c.context_lookback, 0.0, 3600.0);
+  c.max_torque = s.get_number("max_torque", c.max_torque, 1.0, 1e8);
+  c.max_generator_speed = s.get_number("max_generator_speed", c.max_generator_speed, 1.0, 1e4);
+  c.max_power = s.get_number("max_power", c.max_power, 1.0, 1e10);
+  return c;
+}
+
+DriveTrainDiagnoser::DriveTrainDiagnoser(const DiagnoserConfig& config, const AeroModel& aero)
+    : c_(config),
+      converter_(config.converter, config.sample_time),
+      efficiency_(config.efficiency, config.sample_time),
+      aero_power_(aero, config.wind_window, config.sample_time) {}
+
+void DriveTrainDiagnoser::set_context(const InputContext& context, double) {
+  // A sensor newly suspect was wrong before it was reported: the newest blocks may hold its error.
+  bool newly_suspect = context.generator_speed_suspect && !context_.generator_speed_suspect;
+  for (std::size_t i = 0; i < kBlades; ++i)
+    newly_suspect = newly_suspect || (context.pitch_sensor_suspect[i] && !context_.pitch_sensor_suspect[i]);
+  if (newly_suspect) efficiency_.discard_recent(c_.context_lookback);
+  context_ = context;
+}
+
+bool DriveTrainDiagnoser::update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events) {
+  t_ = s.t;
+  const bool plausible = std::isfinite(s.gen_torque) && std::fabs(s.gen_torque) <= c_.max_torque &&
+                         std::isfinite(s.gen_torque_ref) && std::fabs(s.gen_torque_ref) <= c_.max_torque &&
+                         std::isfinite(s.generator_speed) && s.generator_speed >= 0.0 &&
+                         s.generator_speed <= c_.max_generator_speed;
+  // The power only witnesses: an implausible one is left out, the sample is kept.
+  const double power = std::isfinite(s.power) && std::fabs(s.power) <= c_.max_power ? s.power : kNaN;
+  const bool after_gap = gap || last_rejected_;
+  last_rejected_ = !plausible;
+  if (!plausible) {
+    ++rejected_;
+  } else {
+    converter_.update(s.gen_torque, s.gen_torque_ref, s.generator_speed, power,
+                      !context_.generator_speed_suspect, after_gap);
+    report_converter(s.t, events);
+  }
+
+  // The energy balance judges each sample half an anemometer window late, with the rotor speed taken as
+  // omega_g / N (the power model's tip-speed ratio then carries the generator sensor's small noise). A
+  // suspect pitch reading is replaced by its reference (the actuator follows it): the balance goes on through
+  // a pitch sensor's fault. A suspect generator speed stops it (the rotor's sensor, times N, is 50 times
+  // noisier: its blocks would not compare with the others).
+  FrameSample fed = s;
+  for (std::size_t i = 0; i < kBlades; ++i)
+    if (context_.pitch_sensor_suspect[i]) fed.pitch[i] = s.pitch_ref[i];
+  fed.rotor_speed = plausible ? s.generator_speed / c_.efficiency.gear_ratio : kNaN;
+  fed.aero_power = kNaN;  // the model's power, never a recording's column: the balance tests the model
+  FrameSample centre;
+  bool centre_gap = false;
+  double aero_power = kNaN;
+  if (aero_power_.push(fed, gap || !plausible, centre, centre_gap, aero_power)) {
+    double pitch = 0.0;
+    for (std::size_t i = 0; i < kBlades; ++i) pitch += centre.pitch[i] / kBlades;
+    const bool forget = context_.generator_speed_suspect;
+    const bool usable =
+        !forget && !centre_gap && !context_.turbine_stopped && std::isfinite(centre.rotor_speed);
+    efficiency_.update(centre.gen_torque, centre.generator_speed, aero_power, pitch, usable, forget);
+    report_efficiency(centre.t, events);
+  }
+  return plausible;
+}
+
+void DriveTrainDiagnoser::report_converter(double t, std::vector<FaultEvent>& events) {
+  const ConverterState& st = converter_.state();
+  if (!st.changed) return;
+  FaultEvent e;
+  e.t = t;
+  e.source = "drive_train";
+  e.component = "converter";
+  e.fault = "torque_offset";
+  e.raised = st.raised;
+  e.severity = "warning";
+  if (st.raised) converter_since_ = t;
+  e.t_detected = converter_since_;
+  e.statistic = st.statistic;
+  e.threshold = c_.converter.cusum_threshold;
+  e.size = st.offset;
+  std::ostringstream d;
+  d << "generator torque offset " << std::lround(st.offset) << " N m (power witness "
+    << std::lround(st.witness_offset) << " N m, torque noise " << std::lround(st.noise) << " N m)";
+  e.detail = st.raised ? d.str() : "torque residual back within half the smallest offset";
+  events.push_back(e);
+}
+
+void DriveTrainDiagnoser::report_efficiency(double t, std::vector<FaultEvent>& events) {
+  const EfficiencyState& st = efficiency_.state();
+  if (!st.changed) return;
+  FaultEvent e;
+  e.t = t;
+  e.source = "drive_train";
+  e.component = "drive_train";
+  e.fault = "efficiency_loss";
+  e.raised = st.raised;
+  e.severity = "warning";
+  if (st.raised) efficiency_since_ = t;
+  e.t_detected = efficiency_since_;
+  e.statistic = st.drop;
+  e.threshold = c_.efficiency.step;
+  e.size = st.drop;
+  std::ostringstream d;
+  d.precision(3);
+  d << "drive-train efficiency " << st.efficiency << " against " << st.reference << " before (drop "
+    << 100.0 * st.drop << " %)";
+  e.detail = d.str();
+  events.push_back(e);
+}
+
+bool DriveTrainDiagnoser::estimate_due(DriveTrainOutput& out) {
+  if (have_estimate_ && t_ + 1e-9 < next_estimate_) return false;
+  have_estimate_ = true;
+  next_estimate_ = t_ + 1.0 / c_.estimate_rate;
+  const ConverterState& cv = converter_.state();
+  const EfficiencyState& ef = efficiency_.state();
+  out.t = t_;
+  out.torque_offset = cv.raised ? cv.offset : cv.residual_mean;
+  out.torque_statistic = cv.statistic;
+  out.efficiency = ef.ready ? ef.efficiency : kNaN;
+  out.efficiency_reference = ef.ready ? ef.reference : kNaN;
+  return true;
+}
+
+}  // namespace windfdi::drive_train

@@ -1,0 +1,80 @@
+// One turbine's converter and drive-train diagnosis, shaped like every service core: frame samples in
+// (checked, with the turbine model's aerodynamic power on a centred anemometer average), estimates and
+// fault events out.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "aero_power_input.hpp"
+#include "converter_monitor.hpp"
+#include "efficiency_monitor.hpp"
+#include "fault_event.hpp"
+#include "frame_sample.hpp"
+#include "input_context.hpp"
+#include "turbine_params.hpp"
+#include "yaml_config.hpp"
+
+namespace windfdi::drive_train {
+
+struct DiagnoserConfig {
+  ConverterConfig converter;
+  EfficiencyConfig efficiency;
+  double estimate_rate = 10.0;     ///< Hz
+  double wind_window = 2.0;        ///< s, centred anemometer average before the power model
+  double context_lookback = 60.0;  ///< s of energy-balance blocks dropped when a speed or pitch sensor is
+                                   ///< newly reported by another service (sensor_bias needs up to ~50 s)
+  double sample_time = 0.01;       ///< s, the frame period (the benchmark's 100 Hz)
+  // Plausible measurements: beyond them a sample is rejected (counted), never fed.
+  double max_torque = 2e5;             ///< N m, |generator torque| and |its reference|
+  double max_generator_speed = 400.0;  ///< rad/s
+  double max_power = 2e7;              ///< W, |electrical power|
+};
+
+/// Loads the `drive_train` keys (unknown keys and out-of-range values are ConfigErrors naming file and key);
+/// the drive train's values come from the turbine.
+DiagnoserConfig load_diagnoser_config(const YamlSection& section, const TurbineParams& turbine);
+
+/// The estimate (10 Hz): the replay columns and DriveTrainEstimate.
+struct DriveTrainOutput {
+  double t = 0.0;
+  double torque_offset = 0.0;     ///< N m: while raised the estimated offset, else the residual's 1 s mean
+  double torque_statistic = 0.0;  ///< CUSUM sum (noise sd units)
+  double efficiency = kNaN;       ///< estimated drive-train efficiency, the last 30 s (NaN: not yet)
+  double efficiency_reference = kNaN;  ///< the reference it is compared with
+};
+
+class DriveTrainDiagnoser {
+ public:
+  /// `aero` must outlive this object (one model per process).
+  DriveTrainDiagnoser(const DiagnoserConfig& config, const AeroModel& aero);
+
+  /// False when the sample was rejected (a NaN, infinite or implausible torque, torque reference or
+  /// generator speed): counted, never fed.
+  bool update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events);
+  bool estimate_due(DriveTrainOutput& out);
+  /// A suspect generator speed takes the power witness away and stops the energy balance (its blocks are
+  /// forgotten); a suspect pitch reading is replaced by its reference. When a sensor is newly reported, the
+  /// blocks of the last context_lookback are dropped.
+  void set_context(const InputContext& context, double t);
+
+  uint64_t rejected() const { return rejected_; }
+  const ConverterState& converter() const { return converter_.state(); }
+  const EfficiencyState& efficiency() const { return efficiency_.state(); }
+
+ private:
+  void report_converter(double t, std::vector<FaultEvent>& events);
+  void report_efficiency(double t, std::vector<FaultEvent>& events);
+
+  DiagnoserConfig c_;
+  ConverterMonitor converter_;
+  EfficiencyMonitor efficiency_;
+  AeroPowerInput aero_power_;
+  InputContext context_;
+  bool last_rejected_ = false;
+  uint64_t rejected_ = 0;
+  double t_ = 0.0, next_estimate_ = 0.0, converter_since_ = 0.0, efficiency_since_ = 0.0;
+  bool have_estimate_ = false;
+};
+
+}  // namespace windfdi::drive_train

@@ -1,0 +1,140 @@
+// Drive-train efficiency from the energy balance, and its step test.
+#include "efficiency_monitor.hpp"
+
+#include <cmath>
+#include <numeric>
+
+namespace windfdi::drive_train {
+
+EfficiencyMonitor::EfficiencyMonitor(const EfficiencyConfig& config, double sample_time)
+    : c_(config),
+      dt_(sample_time),
+      edge_(std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(0.5 / sample_time)))) {}
+
+const EfficiencyState& EfficiencyMonitor::update(double tg, double wg, double aero_power, double pitch,
+                                                 bool usable, bool forget) {
+  t_ += dt_;
+  state_.changed = false;
+  if (forget) blocks_.clear();
+  const bool ok = usable && std::isfinite(tg) && std::isfinite(wg) && std::isfinite(aero_power) &&
+                  std::isfinite(pitch) && wg > c_.min_generator_speed;
+  if (!ok) {
+    torque_.reset(), speed_.reset(), aero_torque_.reset(), pitch_.reset(), aero_power_.reset();
+    first_speed_.reset(), last_speeds_.clear();
+    if (forget) state_.ready = false;
+    return state_;
+  }
+  // The rotor speed from the generator's (omega_g / N): 50 times less noise than the rotor's own sensor.
+  const double wr = wg / c_.gear_ratio;
+  torque_.add(tg);
+  speed_.add(wg);
+  aero_torque_.add(aero_power / wr);
+  aero_power_.add(aero_power);
+  pitch_.add(pitch);
+  if (first_speed_.n < edge_) first_speed_.add(wg);
+  last_speeds_.push_back(wg);
+  if (last_speeds_.size() > edge_) last_speeds_.pop_front();
+  if (static_cast<double>(torque_.n) * dt_ >= c_.block_time - 1e-9) close_block();
+  return state_;
+}
+
+void EfficiencyMonitor::discard_recent(double seconds) {
+  torque_.reset(), speed_.reset(), aero_torque_.reset(), pitch_.reset(), aero_power_.reset();
+  first_speed_.reset(), last_speeds_.clear();
+  for (double s = 0.0; s < seconds - 1e-9 && !blocks_.empty(); s += c_.block_time) blocks_.pop_back();
+}
+
+void EfficiencyMonitor::close_block() {
+  const double n = static_cast<double>(torque_.n);
+  const double span = n * dt_;
+  // Mean speed change over the block from its two ends (each averaged over edge_ samples, centred half an
+  // edge in): integrates the accelerations exactly, without differentiating a noisy speed.
+  const double last = std::accumulate(last_speeds_.begin(), last_speeds_.end(), 0.0) /
+                      static_cast<double>(last_speeds_.size());
+  const double edge = static_cast<double>(edge_) * dt_;
+  const double wg_dot = (last - first_speed_.mean()) / (span - edge);
+  const double nr = c_.gear_ratio;
+  // Witczak et al. eqs 31-33 without the shaft torque: J_g w_g' + B_g w_g + T_g = (eta / N) (T_a - B_r w_r -
+  // J_r w_r'), with w_r = w_g / N. The block keeps the generator side, the rotor side without its inertia and
+  // the clean rotor's inertia torque apart: an iced rotor's inertia is larger (ice_detect's own evidence).
+  Block b;
+  b.generator_side = torque_.mean() + c_.generator_friction * speed_.mean() + c_.generator_inertia * wg_dot;
+  b.rotor_side = (aero_torque_.mean() - c_.rotor_friction * speed_.mean() / nr) / nr;
+  b.inertia_torque = c_.rotor_inertia * wg_dot / (nr * nr);
+  const bool operating =
+      aero_power_.mean() >= c_.min_power_share * c_.rated_power && pitch_.mean() <= c_.max_pitch;
+  torque_.reset(), speed_.reset(), aero_torque_.reset(), pitch_.reset(), aero_power_.reset();
+  first_speed_.reset(), last_speeds_.clear();
+  if (!operating || !(b.rotor_side > 0.0)) return;
+  blocks_.push_back(b);
+  evaluate();
+}
+
+void EfficiencyMonitor::fit(std::size_t from, std::size_t n, double& efficiency,
+                            double& inertia_ratio) const {
+  // Least squares of generator_side = eta rotor_side - eta j inertia_torque over the blocks (eta, eta j).
+  double tt = 0, ta = 0, aa = 0, yt = 0, ya = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Block& b = blocks_[blocks_.size() - 1 - from - i];
+    tt += b.rotor_side * b.rotor_side, ta += b.rotor_side * b.inertia_torque;
+    aa += b.inertia_torque * b.inertia_torque;
+    yt += b.generator_side * b.rotor_side, ya += b.generator_side * b.inertia_torque;
+  }
+  const double det = tt * aa - ta * ta;
+  // Too little acceleration in the blocks to weigh the inertia: the clean rotor's.
+  if (!(det > 1e-6 * tt * aa) || aa <= 0.0) {
+    efficiency = (yt - ya) / (tt - ta);
+    inertia_ratio = 1.0;
+    return;
+  }
+  efficiency = (yt * aa - ya * ta) / det;
+  const double eta_j = (yt * ta - ya * tt) / det;
+  inertia_ratio = eta_j / efficiency;
+}
+
+double EfficiencyMonitor::ratio(std::size_t from, std::size_t n, double inertia_ratio) const {
+  double s = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Block& b = blocks_[blocks_.size() - 1 - from - i];
+    s += b.generator_side / (b.rotor_side - inertia_ratio * b.inertia_torque);
+  }
+  return s / static_cast<double>(n);
+}
+
+void EfficiencyMonitor::evaluate() {
+  const auto count = [&](double s) { return static_cast<std::size_t>(std::lround(s / c_.block_time)); };
+  const std::size_t test = std::max<std::size_t>(1, count(c_.test_time)), gap = count(c_.reference_gap),
+                    reference = std::max<std::size_t>(1, count(c_.reference_time));
+  while (blocks_.size() > test + gap + reference) blocks_.pop_front();
+  // Raised, the reference is frozen: the newest blocks alone say whether the loss is gone.
+  if (blocks_.size() < (state_.raised ? test : test + gap + reference)) return;
+  state_.ready = true;
+  if (!state_.raised) {
+    double eta = 0.0;
+    fit(test + gap, reference, eta, state_.inertia_ratio);
+    state_.reference = ratio(test + gap, reference, state_.inertia_ratio);
+  }
+  state_.efficiency = ratio(0, test, state_.inertia_ratio);
+  state_.drop = (state_.reference - state_.efficiency) / state_.reference;
+  if (!state_.raised) {
+    // An iced rotor loses Cp too, which the balance cannot tell from a lossy gearbox; its larger inertia it
+    // can: no efficiency_loss while the reference blocks weigh the rotor heavier than iced_inertia_ratio.
+    if (state_.drop > c_.step && state_.inertia_ratio <= c_.iced_inertia_ratio) {
+      state_.raised = true;
+      state_.changed = true;
+      good_since_ = -1.0;
+    }
+    return;
+  }
+  if (state_.drop < c_.clear_ratio * c_.step) {
+    if (good_since_ < 0.0) good_since_ = t_;
+    if (t_ - good_since_ >= c_.clear_time) {
+      state_.raised = false;
+      state_.changed = true;
+    }
+  } else {
+    good_since_ = -1.0;
+  }
+}
+
+}  // namespace windfdi::drive_train
