@@ -132,43 +132,67 @@ bool derated(const json& c, int blade) {
   return c["pitch_rate_limit"][blade].get<double>() < 10.0 && c["mode"] == 0;
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    EveryClass, FaultClassPipeline,
-    ::testing::Values(
-        FaultClass{"pump_wear", "pump_wear.yaml", "windfdi-pitch-diag", "pitch_diag", "pitch_actuator_1",
-                   "pump_wear", 150, 10, 20, [](const json& c) { return derated(c, 0); }},
-        FaultClass{"hydraulic_leakage", "hydraulic_leakage.yaml", "windfdi-pitch-diag", "pitch_diag",
-                   "pitch_actuator_3", "hydraulic_leakage", 150, 10, 20,
-                   [](const json& c) { return c["mode"] == 2; }},
-        FaultClass{"high_air_content", "high_air_content.yaml", "windfdi-pitch-diag", "pitch_diag",
-                   "pitch_actuator_2", "high_air_content", 150, 10, 20,
-                   [](const json& c) { return derated(c, 1); }},
-        FaultClass{"sensor_abrupt", "sensor_abrupt.yaml", "windfdi-blade-load", "blade_load",
-                   "blade_moment_sensor_2", "sensor_abrupt", 250, 10, 10,
-                   [](const json& c) { return c["ipc_source"] == 1; }},
-        FaultClass{"sensor_drift", "sensor_drift.yaml", "windfdi-blade-load", "blade_load",
-                   "blade_moment_sensor_1", "sensor_drift", 300, 300, 20,
-                   [](const json& c) { return c["ipc_source"] == 1; }},
-        FaultClass{"sensor_intermittent", "sensor_intermittent.yaml", "windfdi-blade-load", "blade_load",
-                   "blade_moment_sensor_3", "sensor_intermittent", 250, 120, 20,
-                   [](const json& c) { return c["ipc_source"] == 1; }},
-        FaultClass{"sensor_invalid", "sensor_invalid.yaml", "windfdi-blade-load", "blade_load",
-                   "blade_moment_sensor_3", "sensor_invalid", 100, 5, 10,
-                   [](const json& c) { return c["ipc_source"] == 1; }},
-        FaultClass{"sensor_bias_rotor_speed", "sensor_bias_rotor_speed.yaml", "windfdi-sensor-bias",
-                   "sensor_bias", "rotor_speed_sensor", "sensor_bias", 150, 5, 10,
-                   [](const json& c) { return c["use_corrected_rotor_speed"] == true; }},
-        FaultClass{"sensor_bias_generator_speed", "sensor_bias_generator_speed.yaml", "windfdi-sensor-bias",
-                   "sensor_bias", "generator_speed_sensor", "sensor_bias", 150, 5, 10,
-                   [](const json& c) { return c["use_corrected_generator_speed"] == true; }},
-        FaultClass{"sensor_bias_pitch", "sensor_bias_pitch.yaml", "windfdi-sensor-bias", "sensor_bias",
-                   "pitch_sensor_2", "sensor_bias", 150, 5, 10,
-                   [](const json& c) { return c["use_corrected_pitch"][1] == true; }},
-        FaultClass{"ice_accretion", "ice_accretion.yaml", "windfdi-ice-detect", "ice_detect", "rotor",
-                   "ice_accretion", 600, 900, 30, [](const json& c) { return c["ice_mode"] == 1; }},
-        FaultClass{"ice_shedding", "ice_shedding.yaml", "windfdi-ice-detect", "ice_detect", "rotor",
-                   "ice_shedding", 700, 300, 30, [](const json& c) { return c["reasons"].get<int>() > 0; }}),
-    [](const auto& i) { return std::string(i.param.name); });
+INSTANTIATE_TEST_SUITE_P(EveryClass, FaultClassPipeline,
+                         ::testing::
+                             Values(
+                                 FaultClass{"pump_wear", "pump_wear.yaml", "windfdi-pitch-diag", "pitch_diag",
+                                            "pitch_actuator_1", "pump_wear", 150, 10, 20,
+                                            [](const json& c) { return derated(c, 0); }},
+                                 FaultClass{"hydraulic_leakage", "hydraulic_leakage.yaml",
+                                            "windfdi-pitch-diag", "pitch_diag", "pitch_actuator_3",
+                                            "hydraulic_leakage", 150, 10, 20,
+                                            [](const json& c) { return c["mode"] == 2; }},
+                                 FaultClass{"high_air_content", "high_air_content.yaml", "windfdi-pitch-diag",
+                                            "pitch_diag", "pitch_actuator_2", "high_air_content", 150, 10, 20,
+                                            [](const json& c) { return derated(c, 1); }},
+                                 FaultClass{"sensor_abrupt", "sensor_abrupt.yaml", "windfdi-blade-load",
+                                            "blade_load", "blade_moment_sensor_2", "sensor_abrupt", 250, 10,
+                                            10, [](const json& c) { return c["ipc_source"] == 1; }},
+                                 FaultClass{"sensor_drift", "sensor_drift.yaml", "windfdi-blade-load",
+                                            "blade_load", "blade_moment_sensor_1", "sensor_drift", 300, 300,
+                                            20, [](const json& c) { return c["ipc_source"] == 1; }},
+                                 FaultClass{"sensor_intermittent", "sensor_intermittent.yaml",
+                                            "windfdi-blade-load", "blade_load", "blade_moment_sensor_3",
+                                            "sensor_intermittent", 250, 120, 20,
+                                            [](const json& c) { return c["ipc_source"] == 1; }},
+                                 FaultClass{"sensor_invalid", "sensor_invalid.yaml", "windfdi-blade-load",
+                                            "blade_load", "blade_moment_sensor_3", "sensor_invalid", 100, 5,
+                                            10, [](const json& c) { return c["ipc_source"] == 1; }},
+                                 FaultClass{
+                                     "sensor_bias_rotor_speed", "sensor_bias_rotor_speed.yaml",
+                                     "windfdi-sensor-bias", "sensor_bias", "rotor_speed_sensor",
+                                     "sensor_bias", 150, 5, 10,
+                                     [](const json& c) { return c["use_corrected_rotor_speed"] == true; }},
+                                 FaultClass{"sensor_bias_generator_speed", "sensor_bias_generator_speed.yaml",
+                                            "windfdi-sensor-bias", "sensor_bias", "generator_speed_sensor",
+                                            "sensor_bias", 150, 5, 10,
+                                            [](const json& c) {
+                                              return c["use_corrected_generator_speed"] == true;
+                                            }},
+                                 FaultClass{
+                                     "sensor_bias_pitch", "sensor_bias_pitch.yaml", "windfdi-sensor-bias",
+                                     "sensor_bias", "pitch_sensor_2", "sensor_bias", 150, 5,
+                                     10, [](const json& c) { return c["use_corrected_pitch"][1] == true; }},
+                                 FaultClass{"ice_accretion", "ice_accretion.yaml", "windfdi-ice-detect",
+                                            "ice_detect", "rotor", "ice_accretion", 600, 900,
+                                            30, [](const json& c) { return c["ice_mode"] == 1; }},
+                                 FaultClass{"ice_shedding", "ice_shedding.yaml", "windfdi-ice-detect",
+                                            "ice_detect", "rotor", "ice_shedding", 700, 300,
+                                            30, [](const json& c) { return c["reasons"].get<int>() > 0; }},
+                                 FaultClass{"torque_offset",
+                                            "converter_torque_offset.yaml", "windfdi-drive-train",
+                                            "drive_train", "converter", "torque_offset", 150, 1, 10,
+                                            [](const json& c) {
+                                              const double comp = c["torque_compensation"].get<double>();
+                                              return comp > 70.0 && comp < 130.0 && c["mode"] == 0;
+                                            }},
+                                 FaultClass{
+                                     "efficiency_loss", "drive_train_efficiency.yaml", "windfdi-drive-train",
+                                     "drive_train", "drive_train", "efficiency_loss", 260, 60, 10,
+                                     [](const json& c) {
+                                       return c["reasons"].get<int>() > 0 && c["mode"] == 0;
+                                     }}),
+                         [](const auto& i) { return std::string(i.param.name); });
 
 // One fault through the whole system (every service, the arbiter closing the loop on the plant): one right
 // report, nothing on the components its residuals touch, and no stop (deploy/arbiter/DECISION_TABLE.md).
@@ -186,8 +210,8 @@ class IsolationChain : public ::testing::TestWithParam<Chain> {};
 TEST_P(IsolationChain, OneFaultGivesOneReportAndNoStop) {
   const Chain& c = GetParam();
   Farm farm(33);
-  for (const char* exe :
-       {"windfdi-blade-load", "windfdi-sensor-bias", "windfdi-pitch-diag", "windfdi-ice-detect"})
+  for (const char* exe : {"windfdi-blade-load", "windfdi-sensor-bias", "windfdi-pitch-diag",
+                          "windfdi-ice-detect", "windfdi-drive-train"})
     farm.service(exe);
   std::this_thread::sleep_for(std::chrono::seconds(2));
   // GIVEN the chain's scenario (fault at 300 s, after blade_load has learned) at 20x real time, closed loop
@@ -285,8 +309,8 @@ TEST(HealthyFarm, EveryServiceOnTheHealthyScenarioRaisesNothing) {
   // GIVEN every diagnostic service and the arbiter on healthy.yaml (three turbines at 8, 14 and 20 m/s), the
   // first 15 minutes at 10x real time (whole hours per turbine are run by each service's own tests)
   Farm farm(31);
-  for (const char* exe :
-       {"windfdi-blade-load", "windfdi-sensor-bias", "windfdi-pitch-diag", "windfdi-ice-detect"})
+  for (const char* exe : {"windfdi-blade-load", "windfdi-sensor-bias", "windfdi-pitch-diag",
+                          "windfdi-ice-detect", "windfdi-drive-train"})
     farm.service(exe);
   auto& health = farm.start({bin("windfdi-test-peer"), "health", "--timeout", "300"}, "health");
   std::this_thread::sleep_for(std::chrono::seconds(2));
@@ -308,7 +332,7 @@ TEST(HealthyFarm, EveryServiceOnTheHealthyScenarioRaisesNothing) {
   std::map<std::pair<std::string, std::string>, json> latest;  // (service, turbine) -> last health
   for (const auto& j : json_lines(health.stdout_text()))
     if (j.contains("service")) latest[{j["service"], j["turbine_id"]}] = j;
-  for (const char* service : {"blade_load", "sensor_bias", "pitch_diag", "ice_detect"})
+  for (const char* service : {"blade_load", "sensor_bias", "pitch_diag", "ice_detect", "drive_train"})
     for (const char* turbine : {"WT01", "WT02", "WT03"}) {
       const auto it = latest.find({service, turbine});
       ASSERT_NE(it, latest.end()) << service << " " << turbine << " sent no health";

@@ -21,7 +21,7 @@ TEST(InstalledTree, ThePlantAndEveryServiceRunFromTheInstalledConfiguration) {
   // it.
   const std::string units = root + "/usr/lib/systemd/system/";
   const std::string target = read_file(units + "windfdi-turbine@.target");
-  for (const std::string unit : {"blade-load", "sensor-bias", "pitch-diag", "ice-detect"}) {
+  for (const std::string unit : {"blade-load", "sensor-bias", "pitch-diag", "ice-detect", "drive-train"}) {
     const std::string text = read_file(units + "windfdi-" + unit + "@.service");
     EXPECT_NE(text.find("ExecStart=/usr/bin/windfdi-" + unit + " --turbine %i"), std::string::npos) << unit;
     EXPECT_NE(target.find("windfdi-" + unit + "@%i.service"), std::string::npos) << unit;
@@ -38,7 +38,7 @@ TEST(InstalledTree, ThePlantAndEveryServiceRunFromTheInstalledConfiguration) {
       env, "plant");
   ASSERT_EQ(plant.wait(120s), 0) << plant.stderr_text();
 
-  for (const std::string service : {"blade_load", "sensor_bias", "pitch_diag", "ice_detect"}) {
+  for (const std::string service : {"blade_load", "sensor_bias", "pitch_diag", "ice_detect", "drive_train"}) {
     std::string exe = "windfdi-" + service;
     std::replace(exe.begin(), exe.end(), '_', '-');
     const std::string estimates = root + "/" + service + ".csv";

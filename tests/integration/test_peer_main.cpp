@@ -184,6 +184,7 @@ int configs(const CommonOptions& common, double timeout) {
                                   {"use_corrected_rotor_speed", c.use_corrected_rotor_speed()},
                                   {"use_corrected_generator_speed", c.use_corrected_generator_speed()},
                                   {"use_corrected_pitch", c.use_corrected_pitch()},
+                                  {"torque_compensation", c.torque_compensation()},
                                   {"reasons", c.reasons().size()}}
                        .dump()
                 << std::endl;
