@@ -11,6 +11,8 @@ echo "== pitch_diag_plant"
 "$bin/pitch_diag_plant" 3600
 echo "== ice_detect_plant"
 "$bin/ice_detect_plant" 3600 3
+echo "== drive_train_plant"
+"$bin/drive_train_plant" 10 5
 echo "== system_latency"
 "$top/tests/perf/system_latency.sh" 10 90
 echo "== farm_capacity"

@@ -21,6 +21,7 @@ ConverterMonitor::ConverterMonitor(const ConverterConfig& config, double sample_
 void ConverterMonitor::reset_run() {
   upper_ = lower_ = 0.0;
   upper_torque_.reset(), lower_torque_.reset(), upper_power_.reset(), lower_power_.reset();
+  upper_witness_.clear(), lower_witness_.clear();
 }
 
 const ConverterState& ConverterMonitor::update(double torque, double torque_ref, double generator_speed,
@@ -86,18 +87,20 @@ const ConverterState& ConverterMonitor::update(double torque, double torque_ref,
 
   // Page's two-sided CUSUM for a step of min_offset in noise of sd `noise`.
   const double z = residual / state_.noise, k = 0.5 * c_.min_offset / state_.noise;
-  const auto step = [&](double& sum, double x, RunningMean& torque_mean, RunningMean& power_mean) {
+  const auto step = [&](double& sum, double x, RunningMean& torque_mean, RunningMean& power_mean,
+                        std::vector<double>& witness_run) {
     sum = std::max(0.0, sum + x - k);
     if (sum == 0.0) {
       torque_mean.reset();
       power_mean.reset();
+      witness_run.clear();
     } else {
       torque_mean.add(residual);
-      if (witness) power_mean.add(power_offset);
+      if (witness) power_mean.add(power_offset), witness_run.push_back(power_offset);
     }
   };
-  step(upper_, z, upper_torque_, upper_power_);
-  step(lower_, -z, lower_torque_, lower_power_);
+  step(upper_, z, upper_torque_, upper_power_, upper_witness_);
+  step(lower_, -z, lower_torque_, lower_power_, lower_witness_);
   state_.statistic = std::max(upper_, lower_);
   if (state_.statistic <= c_.cusum_threshold) return state_;
 
@@ -112,10 +115,15 @@ const ConverterState& ConverterMonitor::update(double torque, double torque_ref,
     reset_run();  // not the converter: start over
     return state_;
   }
+  const std::vector<double>& run = up ? upper_witness_ : lower_witness_;
+  double newer = 0.0;
+  const std::size_t half = run.size() / 2;
+  for (std::size_t i = half; i < run.size(); ++i) newer += run[i];
+  const double witness_size = run.empty() ? 0.0 : newer / static_cast<double>(run.size() - half);
   state_.raised = true;
   state_.changed = true;
-  state_.offset = witnessed ? power_mean.mean() : offset;
-  state_.witness_offset = witnessed ? power_mean.mean() : 0.0;
+  state_.offset = witnessed ? witness_size : offset;
+  state_.witness_offset = witnessed ? witness_size : 0.0;
   below_since_ = -1.0;
   return state_;
 }

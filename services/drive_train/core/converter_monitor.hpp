@@ -57,6 +57,9 @@ class ConverterMonitor {
   double upper_ = 0.0, lower_ = 0.0;  // CUSUM sums
   // Since each sum last left zero: the residual and the power channel's offset, summed for the estimate.
   RunningMean upper_torque_, lower_torque_, upper_power_, lower_power_;
+  // The power's offsets of each run, for the size: a run may start a few samples before the onset (the sum
+  // wanders above zero on noise), so the size is read on its newer half.
+  std::vector<double> upper_witness_, lower_witness_;
   double mean_1s_ = 0.0, power_mean_1s_ = 0.0;  // exponential 1 s means
   bool power_mean_ok_ = false;
   double below_since_ = -1.0, t_ = 0.0;

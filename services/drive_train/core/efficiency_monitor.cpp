@@ -81,9 +81,10 @@ void EfficiencyMonitor::fit(std::size_t from, std::size_t n, double& efficiency,
     yt += b.generator_side * b.rotor_side, ya += b.generator_side * b.inertia_torque;
   }
   const double det = tt * aa - ta * ta;
-  // Too little acceleration in the blocks to weigh the inertia: the clean rotor's.
+  // The blocks' accelerations follow their aerodynamic torques too closely (or there are none) to weigh the
+  // inertia apart: the clean rotor's, and the efficiency by least squares on rotor_side - inertia_torque.
   if (!(det > 1e-6 * tt * aa) || aa <= 0.0) {
-    efficiency = (yt - ya) / (tt - ta);
+    efficiency = (yt - ya) / (tt - 2.0 * ta + aa);
     inertia_ratio = 1.0;
     return;
   }

@@ -240,3 +240,32 @@ TEST(FaultReportStops, AStopIsWarrantedByALeakOrByIceAtItsStopLevelShortlyBefore
   EXPECT_TRUE(s[3].warranted);
   EXPECT_FALSE(s[4].warranted);
 }
+
+TEST(FaultReportTable, APowerPathFaultWhileTheTurbineIsStoppedIsMarkedStopped) {
+  using namespace windfdi::farm;
+  // GIVEN an efficiency change injected at 4000-4200 s on a turbine the arbiter has held in safe stop since
+  // 3410 s, and one on a running turbine, neither detected
+  std::vector<InjectedFault> injected = {{"WT01", "drive_train", "efficiency", 4000.0, "", ""},
+                                         {"WT02", "drive_train", "efficiency", 4000.0, "", ""}};
+  for (auto& i : injected) {
+    std::tie(i.component, i.fault) = expected_detection(i.target, i.type);
+    i.end = 4200.0;
+  }
+  std::vector<HistoryRow> history = {
+      {3410.0,
+       "config",
+       "WT01",
+       {{"t", 3410.0}, {"mode", "safe_stop"}, {"ipc_source", "off"}, {"ice_mode", "normal"}}},
+      {3410.0,
+       "config",
+       "WT02",
+       {{"t", 3410.0}, {"mode", "normal"}, {"ipc_source", "off"}, {"ice_mode", "normal"}}}};
+  const std::string table = render_benchmark_table(match(injected, history), history);
+  // THEN the stopped turbine's row says so and the running one's is a miss
+  EXPECT_NE(table.find("WT01   drive_train:efficiency                    4000-4200  stopped"),
+            std::string::npos)
+      << table;
+  EXPECT_NE(table.find("WT02   drive_train:efficiency                    4000-4200  no"), std::string::npos)
+      << table;
+  EXPECT_NE(table.find("1 fault(s) marked 'stopped'"), std::string::npos) << table;
+}
