@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "drive_train_diagnoser.hpp"
+#include "plant_measurement_args.hpp"
 #include "turbine_sim.hpp"
 
 using namespace windfdi;
@@ -86,26 +87,12 @@ std::string abs_med_max(const std::vector<double>& v, const char* format) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  double hours = 10.0;
-  int seeds = 3;
-  std::string config_file;
-  std::vector<std::string> positional;
-  for (int i = 1; i < argc; ++i) {
-    if (std::string(argv[i]) == "--config" && i + 1 < argc) {
-      config_file = argv[++i];
-    } else if (std::string(argv[i]) == "--events") {
-      print_events = true;
-    } else {
-      positional.push_back(argv[i]);
-    }
-  }
-  if (positional.size() > 0) hours = std::atof(positional[0].c_str());
-  if (positional.size() > 1) seeds = std::atoi(positional[1].c_str());
+  const auto args = perf::parse_plant_measurement_args(argc, argv, 10.0, 3);
+  const double hours = args.first;
+  const int seeds = args.seeds;
+  print_events = args.print_events;
   const TurbineParams p;
-  const DiagnoserConfig cfg =
-      config_file.empty()
-          ? load_diagnoser_config(YamlSection(YAML::Node(YAML::NodeType::Map), "(defaults)"), p)
-          : load_diagnoser_config(YamlSection::load_file(config_file), p);
+  const DiagnoserConfig cfg = load_diagnoser_config(args.config(), p);
 
   std::printf(
       "drive_train on the two-mass plant, 12 %% turbulence, benchmark noise, 100 Hz; %.3g healthy h per wind "

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "ice_service.hpp"
+#include "plant_measurement_args.hpp"
 #include "turbine_sim.hpp"
 
 using namespace windfdi;
@@ -93,26 +94,12 @@ std::string stats(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  double healthy_seconds = 3600;
-  int seeds = 3;
-  std::string config_file;
-  std::vector<std::string> positional;
-  for (int i = 1; i < argc; ++i) {
-    if (std::string(argv[i]) == "--config" && i + 1 < argc) {
-      config_file = argv[++i];
-    } else if (std::string(argv[i]) == "--events") {
-      print_events = true;
-    } else {
-      positional.push_back(argv[i]);
-    }
-  }
-  if (positional.size() > 0) healthy_seconds = std::atof(positional[0].c_str());
-  if (positional.size() > 1) seeds = std::atoi(positional[1].c_str());
+  const auto args = perf::parse_plant_measurement_args(argc, argv, 3600.0, 3);
+  const double healthy_seconds = args.first;
+  const int seeds = args.seeds;
+  print_events = args.print_events;
   const TurbineParams p;
-  const DetectorConfig cfg =
-      config_file.empty()
-          ? load_detector_config(YamlSection(YAML::Node(YAML::NodeType::Map), "(defaults)"), p)
-          : load_detector_config(YamlSection::load_file(config_file), p);
+  const DetectorConfig cfg = load_detector_config(args.config(), p);
   const double j0 = p.lumped_inertia();
   const double kg_per_share =
       j0 * p.gear_ratio * p.gear_ratio / (p.ice_radius * p.ice_radius);  // kg for +100 %

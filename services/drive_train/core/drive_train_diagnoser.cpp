@@ -112,18 +112,26 @@ bool DriveTrainDiagnoser::update(const FrameSample& s, bool gap, std::vector<Fau
   return plausible;
 }
 
-void DriveTrainDiagnoser::report_converter(double t, std::vector<FaultEvent>& events) {
-  const ConverterState& st = converter_.state();
-  if (!st.changed) return;
+namespace {
+/// A warning of this service on `component`, raised or cleared at t; `since` keeps the time it was raised.
+FaultEvent warning(double t, const char* component, const char* fault, bool raised, double& since) {
   FaultEvent e;
   e.t = t;
   e.source = "drive_train";
-  e.component = "converter";
-  e.fault = "torque_offset";
-  e.raised = st.raised;
+  e.component = component;
+  e.fault = fault;
+  e.raised = raised;
   e.severity = "warning";
-  if (st.raised) converter_since_ = t;
-  e.t_detected = converter_since_;
+  if (raised) since = t;
+  e.t_detected = since;
+  return e;
+}
+}  // namespace
+
+void DriveTrainDiagnoser::report_converter(double t, std::vector<FaultEvent>& events) {
+  const ConverterState& st = converter_.state();
+  if (!st.changed) return;
+  FaultEvent e = warning(t, "converter", "torque_offset", st.raised, converter_since_);
   e.statistic = st.statistic;
   e.threshold = c_.converter.cusum_threshold;
   e.size = st.offset;
@@ -137,15 +145,7 @@ void DriveTrainDiagnoser::report_converter(double t, std::vector<FaultEvent>& ev
 void DriveTrainDiagnoser::report_efficiency(double t, std::vector<FaultEvent>& events) {
   const EfficiencyState& st = efficiency_.state();
   if (!st.changed) return;
-  FaultEvent e;
-  e.t = t;
-  e.source = "drive_train";
-  e.component = "drive_train";
-  e.fault = "efficiency_loss";
-  e.raised = st.raised;
-  e.severity = "warning";
-  if (st.raised) efficiency_since_ = t;
-  e.t_detected = efficiency_since_;
+  FaultEvent e = warning(t, "drive_train", "efficiency_loss", st.raised, efficiency_since_);
   e.statistic = st.drop;
   e.threshold = c_.efficiency.step;
   e.size = st.drop;
