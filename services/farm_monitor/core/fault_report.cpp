@@ -50,10 +50,12 @@ std::pair<std::string, std::string> expected_detection(const std::string& target
     if (type == "intermittent") return {c, "sensor_intermittent"};
     return {c, "sensor_abrupt"};
   }
-  if (target == "rotor_speed") return {"rotor_speed_sensor", "sensor_bias"};
-  if (target == "generator_speed") return {"generator_speed_sensor", "sensor_bias"};
+  // A fixed value is sensor_stuck; an offset, and for now a gain, sensor_bias.
+  const char* speed_or_pitch_class = type == "stuck" ? "sensor_stuck" : "sensor_bias";
+  if (target == "rotor_speed") return {"rotor_speed_sensor", speed_or_pitch_class};
+  if (target == "generator_speed") return {"generator_speed_sensor", speed_or_pitch_class};
   if (!ends("pitch_").empty() && target.rfind("pitch_actuator_", 0) != 0)
-    return {"pitch_sensor_" + ends("pitch_"), "sensor_bias"};
+    return {"pitch_sensor_" + ends("pitch_"), speed_or_pitch_class};
   if (target.rfind("pitch_actuator_", 0) == 0) return {target, type};
   if (target == "rotor") return {"rotor", type};
   if (target == "converter" && type == "torque_offset") return {"converter", "torque_offset"};

@@ -33,6 +33,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
                         "witness_torque_min",
                         "max_tracking_error",
                         "stuck_time",
+                        "stuck_samples",
                         "differential_confirm",
                         "pitch_offset_confirm",
                         "pitch_offset_time",
@@ -67,6 +68,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   c.witness_torque_min = s.get_number("witness_torque_min", c.witness_torque_min, 1.0, 1e9);
   c.max_tracking_error = s.get_number("max_tracking_error", c.max_tracking_error, 0.0, 90.0);
   c.stuck_time = s.get_number("stuck_time", c.stuck_time, 0.0, 60.0);
+  c.stuck_samples = static_cast<int>(s.get_number("stuck_samples", c.stuck_samples, 0.0, 100000.0));
   c.differential_confirm = s.get_number("differential_confirm", c.differential_confirm, 0.0, 1.0);
   c.pitch_offset_confirm = s.get_number("pitch_offset_confirm", c.pitch_offset_confirm, 0.0, 10.0);
   c.pitch_offset_time = s.get_number("pitch_offset_time", c.pitch_offset_time, 0.1, 600.0);
@@ -160,6 +162,12 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
   bool all_ok = true;
   if (gap) start_ = -1.0;  // re-settle: the observers missed samples
   if (start_ < 0.0) start_ = s.t;
+  // A reading repeated to the last bit is a stuck sensor (a healthy one carries noise).
+  const double readings[kChannels] = {s.rotor_speed, s.generator_speed, s.pitch[0], s.pitch[1], s.pitch[2]};
+  for (std::size_t k = 0; k < static_cast<std::size_t>(kChannels); ++k) {
+    reading_repeats_[k] = readings[k] == last_reading_[k] && !gap ? reading_repeats_[k] + 1 : 0;
+    last_reading_[k] = readings[k];
+  }
   out_.t = s.t;
   const bool paper = cfg_.mode == Mode::kPaper;
 
@@ -343,21 +351,31 @@ void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
       stat = std::min(stat, std::max(0.0, along) / cfg_.pitch_offset_confirm);
     }
     auto event = [&](bool raised, double since) {
+      if (raised)
+        raised_class_[k] = cfg_.stuck_samples > 0 && reading_repeats_[k] >= cfg_.stuck_samples
+                               ? "sensor_stuck"
+                               : "sensor_bias";
+      const bool stuck = std::string(raised_class_[k]) == "sensor_stuck";
       FaultEvent e;
       e.t = t;
       e.t_detected = since;
       e.source = "sensor_bias";
       e.component = channel_components()[k];
-      e.fault = "sensor_bias";
+      e.fault = raised_class_[k];
       e.raised = raised;
       e.severity = "fault";
       e.statistic = stat;
       e.threshold = thr;
       e.size = filtered_[k];
-      char d[200];
-      std::snprintf(d, sizeof d, "%s bias %+.4g %s (threshold %.4g, %s mode)",
-                    raised ? "estimated" : "cleared: estimated", filtered_[k], kUnit[c], thr,
-                    cfg_.mode == Mode::kPaper ? "paper" : "observer");
+      char d[240];
+      if (stuck)
+        std::snprintf(d, sizeof d,
+                      "%sreading stuck at %.6g %s, %+.4g %s from the estimated value (threshold %.4g)",
+                      raised ? "" : "cleared: ", last_reading_[k], kUnit[c], filtered_[k], kUnit[c], thr);
+      else
+        std::snprintf(d, sizeof d, "%s bias %+.4g %s (threshold %.4g, %s mode)",
+                      raised ? "estimated" : "cleared: estimated", filtered_[k], kUnit[c], thr,
+                      cfg_.mode == Mode::kPaper ? "paper" : "observer");
       e.detail = d;
       events.push_back(e);
     };

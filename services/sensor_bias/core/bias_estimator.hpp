@@ -45,6 +45,9 @@ struct BiasConfig {
   /// s of a pitch reading repeated to the last bit: a stuck sensor (a healthy one carries noise). Its
   /// tracking error is the fault itself, so the rate-limit hold above does not apply to it. 0: off.
   double stuck_time = 0.2;
+  /// Samples of a reading repeated to the last bit, at the moment a channel is raised, that make the report
+  /// `sensor_stuck` (the benchmark's fixed-value fault) instead of `sensor_bias`; 0: never.
+  int stuck_samples = 10;
   /// Observer mode: a speed sensor is flagged only when the differential b_r - b_g / N (what the two speed
   /// sensors alone can see) confirms it with the same sign and at least this share of the threshold.
   double differential_confirm = 0.5;
@@ -170,6 +173,11 @@ class BiasEstimator {
   InputContext context_;
   std::array<double, 3> last_pitch_{};
   std::array<int, 3> repeated_{};  // consecutive samples with the same pitch reading
+  // Per channel (rotor speed, generator speed, pitch 1-3): the last reading, its repeats, and the class
+  // raised.
+  std::array<double, kChannels> last_reading_{};
+  std::array<int, kChannels> reading_repeats_{};
+  std::array<const char*, kChannels> raised_class_{};
   /// Exponentially weighted least squares of r = b - tau v (r = pitch - reference, v = reference rate).
   struct OffsetFit {
     double s11 = 0, s1v = 0, svv = 0, s1r = 0, svr = 0;

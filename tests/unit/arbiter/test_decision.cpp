@@ -134,8 +134,33 @@ INSTANTIATE_TEST_SUITE_P(
         Row{"ice_critical", fault("ice_detect", "rotor", "ice_accretion", "critical"), Mode::kSafeStop,
             IpcSource::kStrainGauge, IceMode::kStop, kNominal, false, false, kNone, "ice_mode=stop"},
         Row{"ice_shedding", fault("ice_detect", "rotor", "ice_shedding", "warning"), Mode::kNormal,
-            IpcSource::kStrainGauge, IceMode::kNormal, kNominal, false, false, kNone, "farm_alarm"}),
+            IpcSource::kStrainGauge, IceMode::kNormal, kNominal, false, false, kNone, "farm_alarm"},
+        Row{"generator_speed_stuck",
+            fault("sensor_bias", "generator_speed_sensor", "sensor_stuck", "fault", 6.0), Mode::kNormal,
+            IpcSource::kStrainGauge, IceMode::kNormal, kNominal, false, true, kNone,
+            "use_corrected_generator_speed"},
+        Row{"converter_torque_offset", fault("drive_train", "converter", "torque_offset", "warning", 104.0),
+            Mode::kNormal, IpcSource::kStrainGauge, IceMode::kNormal, kNominal, false, false, kNone,
+            "torque_compensation=104 N m"},
+        Row{"converter_offset_beyond_compensation",
+            fault("drive_train", "converter", "torque_offset", "warning", 5000.0), Mode::kDegraded,
+            IpcSource::kStrainGauge, IceMode::kNormal, kNominal, false, false, kNone, "mode=degraded"},
+        Row{"efficiency_loss", fault("drive_train", "drive_train", "efficiency_loss", "warning", 0.05),
+            Mode::kNormal, IpcSource::kStrainGauge, IceMode::kNormal, kNominal, false, false, kNone,
+            "maintenance"},
+        Row{"efficiency_loss_beyond_derate",
+            fault("drive_train", "drive_train", "efficiency_loss", "warning", 0.12), Mode::kDegraded,
+            IpcSource::kStrainGauge, IceMode::kNormal, kNominal, false, false, kNone, "mode=degraded"}),
     [](const ::testing::TestParamInfo<Row>& row) { return std::string(row.param.name); });
+
+TEST(Decision, AConverterOffsetIsCompensatedByItsEstimatedSize) {
+  Arbiter a;
+  ASSERT_TRUE(a.on_fault(fault("drive_train", "converter", "torque_offset", "warning", -97.0), 100.0));
+  EXPECT_DOUBLE_EQ(a.evaluate(100.0).torque_compensation, -97.0);
+  // AND once cleared and held clear, the command is the controller's own again
+  ASSERT_TRUE(a.on_fault(fault("drive_train", "converter", "torque_offset", "warning", -97.0, false), 110.0));
+  EXPECT_DOUBLE_EQ(a.evaluate(110.0 + ArbiterConfig{}.clear_hold + 1.0).torque_compensation, 0.0);
+}
 
 TEST(Decision, BladeSensorFaultWithLidarUnavailableTurnsIpcOff) {
   Arbiter a;

@@ -484,6 +484,39 @@ TEST(ObserverMode, AStuckPitchSensorIsFlaggedThoughItsTrackingErrorIsLarge) {
   EXPECT_EQ(first->component, "pitch_sensor_1");
   EXPECT_GE(first->t, 150.0);
   EXPECT_LE(first->t, 155.0);
+  // AND it is named a stuck reading, with the value it is stuck at
+  EXPECT_EQ(first->fault, "sensor_stuck");
+  EXPECT_NE(first->detail.find("stuck at 5 deg"), std::string::npos) << first->detail;
+}
+
+TEST(ObserverMode, AStuckSpeedSensorIsSensorStuckAndABiasStaysSensorBias) {
+  // GIVEN the rotor speed reading stuck at 1.4 rad/s (the benchmark's fault 4) or the generator speed at
+  // 150 rad/s, from 150 s at 14 m/s; and the same sensors with a 2 % offset
+  struct Case {
+    plant::FaultSpec fault;
+    const char* component;
+    const char* fault_class;
+    const char* detail;
+  };
+  const Case cases[] = {
+      {plant::FaultSpec::make("WT01", "rotor_speed", "stuck", 150.0).with_value(1.4), "rotor_speed_sensor",
+       "sensor_stuck", "stuck at 1.4 rad/s"},
+      {plant::FaultSpec::make("WT01", "generator_speed", "stuck", 150.0).with_value(150.0),
+       "generator_speed_sensor", "sensor_stuck", "stuck at 150 rad/s"},
+      {bias("rotor_speed", 0.034, 150.0), "rotor_speed_sensor", "sensor_bias", "bias"},
+      {bias("generator_speed", 3.24, 150.0), "generator_speed_sensor", "sensor_bias", "bias"}};
+  for (const auto& c : cases) {
+    const PlantRun r = run_plant(14.0, 200.0, {c.fault}, Mode::kObserver, 52);
+    const FaultEvent* first = nullptr;
+    for (const auto& e : r.events)
+      if (e.raised && !first) first = &e;
+    ASSERT_NE(first, nullptr) << c.component << " " << c.fault_class;
+    // THEN the first report names the sensor and the kind of its fault, within 5 s
+    EXPECT_EQ(first->component, c.component);
+    EXPECT_EQ(first->fault, c.fault_class) << first->detail;
+    EXPECT_NE(first->detail.find(c.detail), std::string::npos) << first->detail;
+    EXPECT_LE(first->t, 155.0);
+  }
 }
 
 TEST(ObserverMode, AHealthyHourRaisesNothing) {
