@@ -118,7 +118,8 @@ TEST_F(Security, EveryExecutableRefusesToStartWithoutValidCredentials) {
       {"arbiter", {bin("windfdi-arbiter")}},
       {"farm", {bin("windfdi-farm"), "--db", dir + "/farm.sqlite", "--table-period", "0"}},
       {"blade_load", {bin("windfdi-blade-load")}},
-      {"sensor_bias", {bin("windfdi-sensor-bias")}}};
+      {"sensor_bias", {bin("windfdi-sensor-bias")}},
+      {"drive_train", {bin("windfdi-drive-train")}}};
   const auto refused = [&](const std::vector<std::string>& argv, const std::string& file,
                            const std::string& why, const std::map<std::string, std::string>& extra_env = {}) {
     auto e = env;
