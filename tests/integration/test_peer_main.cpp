@@ -273,6 +273,7 @@ int churn(const CommonOptions& common, const std::string& turbine, int cycles) {
   using namespace eprosima::fastdds::dds;
   using Traits = bus::TopicTraits<windfdi::SensorBiasEstimate>;
   bus::Participant participant(participant_options(common, "windfdi-test-peer-churn"));
+  Traits::register_type_object();  // the content filter reads the key field through it
   TopicDescription* topic =
       participant.topic_for_turbines(Traits::name, bus::type_support<Traits::PubSub>(), {turbine});
   DataReaderQos qos;

@@ -54,9 +54,10 @@ check "the toy service has a systemd unit that starts it with its configuration"
      'build/generated/systemd/windfdi-toy-check@.service'"
 # AND its estimate type builds, with the topic and QoS profile of its registry line
 cmake --build build --target windfdi_toy_check_estimate >>build.log 2>&1 || { tail -30 build.log; exit 1; }
-check "the toy estimate's topic trait names its registry topic" \
-  "grep -q 'WINDFDI_TOPIC(ToyCheckEstimate, \"wt/estimate/toy_check\", \"estimate_best_effort\"' \
-     build/generated/estimates/toy_check/toy_check_estimate_topic.hpp"
+trait=build/generated/estimates/toy_check/toy_check_estimate_topic.hpp
+check "the toy estimate's topic trait names its type, registry topic and QoS profile" \
+  "grep -q 'TopicTraits<windfdi::ToyCheckEstimate>' $trait && grep -q 'name = \"wt/estimate/toy_check\"' $trait &&
+   grep -q 'profile = \"estimate_best_effort\"' $trait"
 # AND it gets a security role that may publish its estimate topic
 deploy/security/make_credentials.sh creds >creds.log 2>&1 || { cat creds.log; exit 1; }
 check "make_credentials writes the toy_check role" "[ -f creds/toy_check/permissions.xml ]"
