@@ -20,7 +20,7 @@ ConverterMonitor::ConverterMonitor(const ConverterConfig& config, double sample_
 
 void ConverterMonitor::reset_run() {
   upper_ = lower_ = 0.0;
-  upper_torque_.reset(), lower_torque_.reset(), upper_power_.reset(), lower_power_.reset();
+  upper_torque_.reset(), lower_torque_.reset();
   upper_witness_.clear(), lower_witness_.clear();
 }
 
@@ -87,38 +87,39 @@ const ConverterState& ConverterMonitor::update(double torque, double torque_ref,
 
   // Page's two-sided CUSUM for a step of min_offset in noise of sd `noise`.
   const double z = residual / state_.noise, k = 0.5 * c_.min_offset / state_.noise;
-  const auto step = [&](double& sum, double x, RunningMean& torque_mean, RunningMean& power_mean,
-                        std::vector<double>& witness_run) {
+  const auto step = [&](double& sum, double x, RunningMean& torque_mean, std::vector<double>& witness_run) {
     sum = std::max(0.0, sum + x - k);
     if (sum == 0.0) {
       torque_mean.reset();
-      power_mean.reset();
       witness_run.clear();
     } else {
       torque_mean.add(residual);
-      if (witness) power_mean.add(power_offset), witness_run.push_back(power_offset);
+      if (witness) witness_run.push_back(power_offset);
     }
   };
-  step(upper_, z, upper_torque_, upper_power_, upper_witness_);
-  step(lower_, -z, lower_torque_, lower_power_, lower_witness_);
+  step(upper_, z, upper_torque_, upper_witness_);
+  step(lower_, -z, lower_torque_, lower_witness_);
   state_.statistic = std::max(upper_, lower_);
   if (state_.statistic <= c_.cusum_threshold) return state_;
 
   const bool up = upper_ >= lower_;
   const RunningMean& torque_mean = up ? upper_torque_ : lower_torque_;
-  const RunningMean& power_mean = up ? upper_power_ : lower_power_;
+  const std::vector<double>& run = up ? upper_witness_ : lower_witness_;
   const double offset = torque_mean.mean();
+  // Sums of the run's power offsets: all of them, and the newer half.
+  const std::size_t half = run.size() / 2;
+  double all = 0.0, newer = 0.0;
+  for (std::size_t i = 0; i < run.size(); ++i) {
+    all += run[i];
+    if (i >= half) newer += run[i];
+  }
   // The witness must have seen most of the run; a torque sensor's own error does not move the power.
-  const bool witnessed = power_mean.n * 2 >= torque_mean.n;
-  const double ratio = witnessed ? power_mean.mean() / offset : 1.0;
+  const bool witnessed = run.size() * 2 >= torque_mean.n;
+  const double ratio = witnessed ? all / static_cast<double>(run.size()) / offset : 1.0;
   if (witnessed && !(ratio >= c_.witness_ratio && ratio <= 1.0 / c_.witness_ratio)) {
     reset_run();  // not the converter: start over
     return state_;
   }
-  const std::vector<double>& run = up ? upper_witness_ : lower_witness_;
-  double newer = 0.0;
-  const std::size_t half = run.size() / 2;
-  for (std::size_t i = half; i < run.size(); ++i) newer += run[i];
   const double witness_size = run.empty() ? 0.0 : newer / static_cast<double>(run.size() - half);
   state_.raised = true;
   state_.changed = true;

@@ -56,9 +56,9 @@ class ConverterMonitor {
   std::vector<double> learn_;         // residuals while learning the noise
   double upper_ = 0.0, lower_ = 0.0;  // CUSUM sums
   // Since each sum last left zero: the residual and the power channel's offset, summed for the estimate.
-  RunningMean upper_torque_, lower_torque_, upper_power_, lower_power_;
-  // The power's offsets of each run, for the size: a run may start a few samples before the onset (the sum
-  // wanders above zero on noise), so the size is read on its newer half.
+  RunningMean upper_torque_, lower_torque_;
+  // The power's offsets of each run: their mean must confirm the torque's, and the size is read on their
+  // newer half (a run may start a few samples before the onset, while the sum wanders above zero on noise).
   std::vector<double> upper_witness_, lower_witness_;
   double mean_1s_ = 0.0, power_mean_1s_ = 0.0;  // exponential 1 s means
   bool power_mean_ok_ = false;

@@ -70,8 +70,7 @@ void EfficiencyMonitor::close_block() {
   evaluate();
 }
 
-void EfficiencyMonitor::fit(std::size_t from, std::size_t n, double& efficiency,
-                            double& inertia_ratio) const {
+double EfficiencyMonitor::fitted_inertia_ratio(std::size_t from, std::size_t n) const {
   // Least squares of generator_side = eta rotor_side - eta j inertia_torque over the blocks (eta, eta j).
   double tt = 0, ta = 0, aa = 0, yt = 0, ya = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -82,15 +81,11 @@ void EfficiencyMonitor::fit(std::size_t from, std::size_t n, double& efficiency,
   }
   const double det = tt * aa - ta * ta;
   // The blocks' accelerations follow their aerodynamic torques too closely (or there are none) to weigh the
-  // inertia apart: the clean rotor's, and the efficiency by least squares on rotor_side - inertia_torque.
-  if (!(det > 1e-6 * tt * aa) || aa <= 0.0) {
-    efficiency = (yt - ya) / (tt - 2.0 * ta + aa);
-    inertia_ratio = 1.0;
-    return;
-  }
-  efficiency = (yt * aa - ya * ta) / det;
+  // inertia apart: the clean rotor's.
+  if (!(det > 1e-6 * tt * aa) || aa <= 0.0) return 1.0;
+  const double eta = (yt * aa - ya * ta) / det;
   const double eta_j = (yt * ta - ya * tt) / det;
-  inertia_ratio = eta_j / efficiency;
+  return eta_j / eta;
 }
 
 double EfficiencyMonitor::ratio(std::size_t from, std::size_t n, double inertia_ratio) const {
@@ -111,8 +106,7 @@ void EfficiencyMonitor::evaluate() {
   if (blocks_.size() < (state_.raised ? test : test + gap + reference)) return;
   state_.ready = true;
   if (!state_.raised) {
-    double eta = 0.0;
-    fit(test + gap, reference, eta, state_.inertia_ratio);
+    state_.inertia_ratio = fitted_inertia_ratio(test + gap, reference);
     state_.reference = ratio(test + gap, reference, state_.inertia_ratio);
   }
   state_.efficiency = ratio(0, test, state_.inertia_ratio);

@@ -68,8 +68,8 @@ class EfficiencyMonitor {
   };
   void close_block();
   void evaluate();
-  /// Efficiency and inertia ratio fitted on `n` blocks from `from` blocks back.
-  void fit(std::size_t from, std::size_t n, double& efficiency, double& inertia_ratio) const;
+  /// The rotor's inertia ratio fitted beside the efficiency on `n` blocks from `from` blocks back.
+  double fitted_inertia_ratio(std::size_t from, std::size_t n) const;
   /// Mean of the blocks' efficiencies with the rotor inertia scaled by `inertia_ratio`.
   double ratio(std::size_t from, std::size_t n, double inertia_ratio) const;
 
