@@ -9,9 +9,10 @@ namespace windfdi {
 
 const std::vector<std::string>& fault_class_names() {
   static const std::vector<std::string> n = {
-      "none",           "sensor_abrupt",     "sensor_drift",     "sensor_intermittent", "sensor_bias",
-      "pump_wear",      "hydraulic_leakage", "high_air_content", "ice_accretion",       "ice_shedding",
-      "sensor_invalid", "service_lost",      "torque_offset",    "efficiency_loss",     "sensor_stuck"};
+      "none",          "sensor_abrupt",   "sensor_drift",      "sensor_intermittent",
+      "sensor_bias",   "pump_wear",       "hydraulic_leakage", "high_air_content",
+      "ice_accretion", "ice_shedding",    "sensor_invalid",    "service_lost",
+      "torque_offset", "efficiency_loss", "sensor_stuck",      "sensor_gain"};
   return n;
 }
 
@@ -58,7 +59,7 @@ std::vector<std::string> fault_classes_for(const std::string& c) {
   if (starts("blade_moment_sensor_"))
     return {"sensor_abrupt", "sensor_drift", "sensor_intermittent", "sensor_invalid"};
   if (c == "rotor_speed_sensor" || c == "generator_speed_sensor" || starts("pitch_sensor_"))
-    return {"sensor_bias", "sensor_stuck", "sensor_invalid"};
+    return {"sensor_bias", "sensor_stuck", "sensor_gain", "sensor_invalid"};
   if (starts("pitch_actuator_")) return {"pump_wear", "hydraulic_leakage", "high_air_content"};
   if (c == "rotor") return {"ice_accretion", "ice_shedding"};
   if (c == "lidar") return {"sensor_invalid"};

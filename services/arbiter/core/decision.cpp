@@ -163,9 +163,10 @@ void Arbiter::apply(Cause& cause, double now, Configuration& cfg) {
     const double limit = e.component == "rotor_speed_sensor"       ? config_.rotor_speed_bias_limit
                          : e.component == "generator_speed_sensor" ? config_.generator_speed_bias_limit
                                                                    : config_.pitch_bias_limit;
-    if (e.fault == "sensor_bias" || e.fault == "sensor_stuck") {
-      // A stuck reading is replaced like a biased one: sensor_bias's corrected value is the observer's
-      // estimate, which for a speed sensor rests on the other speed sensor through the gear ratio.
+    if (e.fault == "sensor_bias" || e.fault == "sensor_stuck" || e.fault == "sensor_gain") {
+      // A stuck or scaled reading is replaced like a biased one: sensor_bias's corrected value is the
+      // observer's estimate, which for a speed sensor rests on the other speed sensor through the gear ratio
+      // and on the power witness.
       if (e.component == "rotor_speed_sensor") cfg.use_corrected_rotor_speed = true;
       if (e.component == "generator_speed_sensor") cfg.use_corrected_generator_speed = true;
       if (blade >= 0 && starts_with(e.component, "pitch_sensor_")) cfg.use_corrected_pitch[blade] = true;
