@@ -38,7 +38,7 @@ MEAN_FLAP_MOMENT = 5.4e6  # N m: 900 N m/s is the documented 1 %/min drift
 # were measured on faults at full size from their onset; a fault ramped in (ramp_in: actuator faults, ice) is
 # judged both from its onset (the benchmark's clock) and from the end of its ramp, when it has its full size.
 DELAY_TARGET = {
-    "sensor_abrupt": 5.0, "sensor_invalid": 5.0, "sensor_intermittent": 60.0, "sensor_bias": 5.0,
+    "sensor_abrupt": 5.0, "sensor_invalid": 5.0, "sensor_intermittent": 60.0, "sensor_bias": 5.0, "sensor_gain": 5.0,
     "pump_wear": 10.0, "high_air_content": 10.0, "hydraulic_leakage": 10.0,
     "ice_accretion": 600.0, "ice_shedding": 60.0, "torque_offset": 1.0, "efficiency_loss": 60.0,
 }

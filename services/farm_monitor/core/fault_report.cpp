@@ -50,8 +50,10 @@ std::pair<std::string, std::string> expected_detection(const std::string& target
     if (type == "intermittent") return {c, "sensor_intermittent"};
     return {c, "sensor_abrupt"};
   }
-  // A fixed value is sensor_stuck; an offset, and for now a gain, sensor_bias.
-  const char* speed_or_pitch_class = type == "stuck" ? "sensor_stuck" : "sensor_bias";
+  // A fixed value is sensor_stuck, a gain sensor_gain, an offset sensor_bias.
+  const char* speed_or_pitch_class = type == "stuck"  ? "sensor_stuck"
+                                     : type == "gain" ? "sensor_gain"
+                                                      : "sensor_bias";
   if (target == "rotor_speed") return {"rotor_speed_sensor", speed_or_pitch_class};
   if (target == "generator_speed") return {"generator_speed_sensor", speed_or_pitch_class};
   if (!ends("pitch_").empty() && target.rfind("pitch_actuator_", 0) != 0)

@@ -8,6 +8,7 @@
 
 #include "design_input.hpp"
 #include "fault_event.hpp"
+#include "fault_type.hpp"
 #include "frame_sample.hpp"
 #include "input_context.hpp"
 #include "observers.hpp"
@@ -48,6 +49,22 @@ struct BiasConfig {
   /// Samples of a reading repeated to the last bit, at the moment a channel is raised, that make the report
   /// `sensor_stuck` (the benchmark's fixed-value fault) instead of `sensor_bias`; 0: never.
   int stuck_samples = 10;
+  /// A channel's fault is `sensor_gain` or `sensor_bias` (offset) by how its error moves with the measured
+  /// quantity since the onset (fault_type.hpp): the evidence, a likelihood ratio, must reach this for either
+  /// class. The speeds' witness is the electrical power (P / (eta_g T_g)), the pitch's its reference. 0:
+  /// every speed and pitch fault that is not stuck is `sensor_bias`.
+  double type_evidence = 16.0;
+  /// s after the threshold is crossed that the raise may wait for that evidence (rotor speed, generator
+  /// speed, pitch x 3); then the likelier of the two is reported, and the detail says how strong the
+  /// evidence was. The pitch above rated decides in 1-3 s (its reference swings with the wind and the IPC);
+  /// the generator speed in 5-20 s; the rotor speed, which its inertia keeps steady, in 20-60 s. The rotor
+  /// speed steers no controller (only the LIDAR load model's tip-speed ratio), so it may wait longest; the
+  /// generator speed steers the speed controller, so the corrected speed must not wait long.
+  std::array<double, kChannels> type_decision_time{20.0, 5.0, 5.0, 5.0, 5.0};
+  /// At that deadline a gain must still be this much likelier (the evidence, twice the log-likelihood ratio;
+  /// 5: 12 times likelier) or the simpler model, the offset, is reported. The rotor speed's slow residual
+  /// makes its evidence run high: offsets reached 2.4-4.7 there in the suite.
+  double type_evidence_at_deadline = 5.0;
   /// Observer mode: a speed sensor is flagged only when the differential b_r - b_g / N (what the two speed
   /// sensors alone can see) confirms it with the same sign and at least this share of the threshold.
   double differential_confirm = 0.5;
@@ -143,11 +160,17 @@ class BiasEstimator {
  private:
   double aero_torque(const FrameSample& s) const;
   void detect(double t, std::vector<FaultEvent>& events);
+  /// The class of channel k's fault, `waited` s after its threshold was crossed; nullptr: wait for evidence.
+  const char* fault_class(std::size_t k, double waited);
+  std::string detail(std::size_t k, bool raised) const;  ///< the report's detail for channel k
 
   BiasConfig cfg_;
   TurbineParams turbine_;
   AeroModel aero_;
-  double torque_avg_;    // share of a torque step the converter delivers on average over one sample
+  double torque_avg_;         // share of a torque step the converter delivers on average over one sample
+  double converter_a_ = 1.0;  // share of a torque step the converter delivers within one sample
+  double converter_torque_ = 0.0, last_torque_ref_ = 0.0;  // N m, the converter model's torque, its input
+  bool converter_init_ = false;
   double aero_damping_;  // N m s/rad folded into the drive train's A by the design (added back to the input)
   std::array<double, kChannels> inv_bias_bound_{};  // 1 / the design's bias-error bound (0: none)
   double dt_ = 0.01;                                // s, the observers' sample time (from the gain file)
@@ -178,6 +201,9 @@ class BiasEstimator {
   std::array<double, kChannels> last_reading_{};
   std::array<int, kChannels> reading_repeats_{};
   std::array<const char*, kChannels> raised_class_{};
+  std::array<GainOrOffsetTest, kChannels> fault_type_{};  // gain or offset, since the channel's onset
+  std::array<GainOrOffsetTest::Verdict, kChannels> raised_verdict_{};
+  std::array<double, kChannels> raised_gain_{};
   /// Exponentially weighted least squares of r = b - tau v (r = pitch - reference, v = reference rate).
   struct OffsetFit {
     double s11 = 0, s1v = 0, svv = 0, s1r = 0, svr = 0;

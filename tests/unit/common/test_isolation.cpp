@@ -58,6 +58,9 @@ INSTANTIATE_TEST_SUITE_P(
                 report("sensor_bias", "pitch_sensor_1", "sensor_bias", 12)},
         RowCase{"generator_speed_ice", report("sensor_bias", "generator_speed_sensor", "sensor_bias", 10),
                 report("ice_detect", "rotor", "ice_shedding", 12)},
+        RowCase{"generator_speed_drive_train",
+                report("sensor_bias", "generator_speed_sensor", "sensor_gain", 10),
+                report("drive_train", "drive_train", "efficiency_loss", 12)},
         RowCase{"generator_speed_rotor_speed",
                 report("sensor_bias", "generator_speed_sensor", "sensor_bias", 10),
                 report("sensor_bias", "rotor_speed_sensor", "sensor_bias", 12)},
@@ -77,7 +80,20 @@ INSTANTIATE_TEST_SUITE_P(
 
 TEST(Isolation, EveryTableRowHasACase) {
   // The parameterised cases above cover each row once; a new row needs a new case.
-  EXPECT_EQ(signature_table().size(), 15u);
+  EXPECT_EQ(signature_table().size(), 16u);
+}
+
+TEST(Isolation, ARotorSpeedFaultExplainsWhatRespondedWhileItsTypeWasWeighed) {
+  // GIVEN a blade-moment report 30 s before the rotor-speed report (sensor_bias weighs gain against offset
+  // for up to 20 s after the threshold is crossed)
+  const auto v = isolate({report("blade_load", "blade_moment_sensor_1", "sensor_drift", 1000),
+                          report("sensor_bias", "rotor_speed_sensor", "sensor_gain", 1030)});
+  // THEN the blade-moment report is the rotor speed's echo (the rotor rows' own lead, 40 s)
+  EXPECT_TRUE(v[0].secondary);
+  // AND the same lead does not reach a generator-speed root (the default 15 s)
+  EXPECT_FALSE(isolate({report("blade_load", "blade_moment_sensor_1", "sensor_drift", 1000),
+                        report("sensor_bias", "generator_speed_sensor", "sensor_gain", 1030)})[0]
+                   .secondary);
 }
 
 TEST(Isolation, IceExplainsAnEfficiencyLossTheEnergyBalanceSawMinutesBefore) {

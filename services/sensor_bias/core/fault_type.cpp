@@ -1,0 +1,83 @@
+// Tells a sensor's gain fault from its offset fault by how its error moves with the measured quantity.
+#include "fault_type.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace windfdi::sensor_bias {
+
+void GainOrOffsetTest::restart() {
+  in_block_ = 0;
+  block_sum_.setZero();
+  uu_.setZero();
+  ue_.setZero();
+  ee_ = 0.0;
+  blocks_ = 0;
+}
+
+void GainOrOffsetTest::add(double error, double value, double nuisance) {
+  block_sum_ += Eigen::Vector3d(error, value, nuisance);
+  if (++in_block_ < block_samples_) return;
+  const Eigen::Vector3d m = block_sum_ / static_cast<double>(block_samples_);
+  const Eigen::Vector3d u(1.0, m(1), m(2));
+  uu_ += u * u.transpose();
+  ue_ += u * m(0);
+  ee_ += m(0) * m(0);
+  ++blocks_;
+  in_block_ = 0;
+  block_sum_.setZero();
+}
+
+double GainOrOffsetTest::fit(const Eigen::Vector3d& use, Eigen::Vector3d* coefficients) const {
+  // Normal equations over the chosen regressors. A regressor that never moved from zero (no nuisance, a
+  // pitch standing at 0 deg) gets a small ridge and so a zero coefficient instead of a singular system.
+  Eigen::Matrix3d a = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 3; ++i) {
+    if (use(i) == 0.0) continue;
+    b(i) = ue_(i);
+    for (int j = 0; j < 3; ++j)
+      if (use(j) != 0.0) a(i, j) = uu_(i, j);
+    a(i, i) += 1e-9 * uu_(i, i) + 1e-12 * static_cast<double>(blocks_);
+  }
+  const Eigen::Vector3d c = a.ldlt().solve(b);
+  if (coefficients) *coefficients = c;
+  return std::max(0.0, ee_ - c.dot(b));
+}
+
+double GainOrOffsetTest::evidence() const {
+  if (blocks_ <= 3) return 0.0;
+  const double offset_rss = fit(Eigen::Vector3d(1, 0, 1), nullptr);
+  const double gain_rss = fit(Eigen::Vector3d(0, 1, 1), nullptr);
+  const double noise = fit(Eigen::Vector3d(1, 1, 1), nullptr) / static_cast<double>(blocks_ - 3);
+  // Noise-free data (a synthetic record) would divide by zero: floor the variance far below any sensor's.
+  return (offset_rss - gain_rss) / std::max(noise, 1e-12 * ee_ / blocks_ + 1e-300);
+}
+
+GainOrOffsetTest::Verdict GainOrOffsetTest::verdict(double min_evidence) const {
+  const double e = evidence();
+  // A "gain" that is further than 1 from unity (a reading of the opposite sign, or a gain model fitted on a
+  // quantity standing near zero) is not a sensor's gain fault: what is left is the offset.
+  if (!(std::fabs(gain() - 1.0) <= 1.0)) return blocks_ > 3 ? Verdict::kOffset : Verdict::kUndecided;
+  if (e >= min_evidence) return Verdict::kGain;
+  if (e <= -min_evidence) return Verdict::kOffset;
+  return Verdict::kUndecided;
+}
+
+GainOrOffsetTest::Verdict GainOrOffsetTest::verdict_now(double gain_margin) const {
+  return std::fabs(gain() - 1.0) <= 1.0 && evidence() >= gain_margin ? Verdict::kGain : Verdict::kOffset;
+}
+
+double GainOrOffsetTest::gain() const {
+  Eigen::Vector3d c;
+  fit(Eigen::Vector3d(0, 1, 1), &c);
+  return regressor_is_reading_ ? 1.0 / (1.0 - c(1)) : 1.0 + c(1);
+}
+
+double GainOrOffsetTest::offset() const {
+  Eigen::Vector3d c;
+  fit(Eigen::Vector3d(1, 0, 1), &c);
+  return c(0);
+}
+
+}  // namespace windfdi::sensor_bias
