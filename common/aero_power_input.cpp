@@ -32,6 +32,11 @@ bool AeroPowerInput::usable_wind(double v) const {
 
 bool AeroPowerInput::push(const FrameSample& s, bool gap, FrameSample& out, bool& out_gap, double& power) {
   window_.push_back(Entry{s, gap});
+  for (int i = 0; i < kBlades; ++i)
+    if (absent_ & (kValidPitch1 << i)) {
+      window_.back().sample.pitch[static_cast<std::size_t>(i)] = absent_pitch_;
+      window_.back().sample.valid_mask |= kValidPitch1 << i;
+    }
   if (usable_wind(s.wind_hub)) wind_sum_ += s.wind_hub, ++wind_count_;
   // The next sample out is the one half a window behind the newest (at the start, with fewer before it).
   if (window_.size() - 1 - next_ < half_) return false;

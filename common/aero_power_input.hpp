@@ -32,6 +32,12 @@ class AeroPowerInput {
   /// `out` and `out_gap`, with its aerodynamic power in `power` (NaN when an input is missing or out of
   /// range). A gap does not break the average: the wind a second apart is still the same gust.
   bool push(const FrameSample& s, bool gap, FrameSample& out, bool& out_gap, double& power);
+  /// `absent`: valid bits of channels the turbine's data does not carry (InputContext::absent). An absent
+  /// blade pitch is taken as `absent_pitch` (deg): a fixed-pitch or stall-regulated rotor's blade angle.
+  void set_absent(uint32_t absent, double absent_pitch) {
+    absent_ = absent;
+    absent_pitch_ = absent_pitch;
+  }
 
  private:
   bool usable_wind(double v) const;
@@ -46,6 +52,8 @@ class AeroPowerInput {
   std::size_t next_ = 0;      // index in window_ of the next sample out
   double wind_sum_ = 0.0;     // over the window's finite anemometer values
   std::size_t wind_count_ = 0;
+  uint32_t absent_ = 0;
+  double absent_pitch_ = 0.0;
 };
 
 /// The model's aerodynamic power (W) at hub wind `wind` (m/s), blade by blade; NaN for a missing or out of

@@ -67,28 +67,52 @@ int run_replay_mode(const ServiceSpec& spec, const ReplayOptions& options, const
   const auto context_events = read_context_events(context_file);
   std::size_t next_context = 0;
   std::map<std::string, InputContextTracker> contexts;
-  const auto stats =
-      run_replay(options, spec.estimate_columns,
-                 [&](const std::string& id, const FrameSample& s, bool gap, ReplaySink& sink) {
-                   auto& d = turbines[id];
-                   if (!d) d = spec.make(id);
-                   for (; next_context < context_events.size() && context_events[next_context].t <= s.t;
-                        ++next_context) {
-                     const FaultEvent& e = context_events[next_context];
-                     auto& tracker = contexts.try_emplace(e.turbine_id, spec.name).first->second;
-                     if (!tracker.on_fault(e)) continue;
-                     const auto it = turbines.find(e.turbine_id.empty() ? id : e.turbine_id);
-                     if (it != turbines.end() && it->second) it->second->set_context(tracker.context(), s.t);
-                   }
-                   return feed(
-                       spec, id, *d, s, gap, [&](FaultEvent& e) { sink.event(e); },
-                       [&] { sink.estimate(s.t, id, last_values()); });
-                 });
+  uint32_t absent = 0;  // the recording's header lacks these channels
+  const auto header = [&](const FrameCsvReader& reader) {
+    const auto has = [&](const std::string& c) { return reader.has_column(c); };
+    report_inputs(spec.name, spec.inputs, has, reader.path(), true);
+    absent = absent_channels(has);
+  };
+  const auto with_absent = [&](InputContext c) {
+    c.absent = absent;
+    return c;
+  };
+  const auto stats = run_replay(
+      options, spec.estimate_columns,
+      [&](const std::string& id, const FrameSample& s, bool gap, ReplaySink& sink) {
+        auto& d = turbines[id];
+        if (!d) {
+          d = spec.make(id);
+          if (absent) d->set_context(with_absent({}), s.t);
+        }
+        for (; next_context < context_events.size() && context_events[next_context].t <= s.t;
+             ++next_context) {
+          const FaultEvent& e = context_events[next_context];
+          auto& tracker = contexts.try_emplace(e.turbine_id, spec.name).first->second;
+          if (!tracker.on_fault(e)) continue;
+          const auto it = turbines.find(e.turbine_id.empty() ? id : e.turbine_id);
+          if (it != turbines.end() && it->second)
+            it->second->set_context(with_absent(tracker.context()), s.t);
+        }
+        return feed(
+            spec, id, *d, s, gap, [&](FaultEvent& e) { sink.event(e); },
+            [&] { sink.estimate(s.t, id, last_values()); });
+      },
+      header);
   spdlog::info("replay of {}: {} samples, {} rejected, {} lost (sequence gaps), {} estimates, {} events",
                options.frames, stats.samples, stats.rejected, stats.sequence_gaps, stats.estimates,
                stats.events);
   return kExitOk;
 }
+
+// Samples of a turbine on DDS after which a channel never seen valid and finite counts as absent (5 s at 100
+// Hz: a sensor that is merely faulty at start is invalid for longer only when it is faulty, and then
+// sensor_invalid says so).
+constexpr int kPresenceSamples = 500;
+struct InputPresence {
+  int samples = 0;
+  uint32_t seen = 0, absent = 0;
+};
 
 // The newest LIDAR frame of a turbine, merged into its frame samples while it is fresh.
 struct LidarState {
@@ -112,17 +136,12 @@ int run_node(const ServiceSpec& spec, const CommonOptions& common) {
   const EstimatePublisher publish = spec.make_publisher ? spec.make_publisher(node.participant()) : nullptr;
   spdlog::info("{} running{}", spec.name, common.turbines.empty() ? " for every turbine" : "");
   std::map<std::string, InputContext> given;  // the context each diagnoser has
+  std::map<std::string, InputPresence> presence;
   node.run([&](const std::string& id, const FrameSample& sample, bool gap) {
     auto& d = turbines[id];
     if (!d) {
       d = spec.make(id);
       spdlog::info("{}: diagnosing turbine {}", spec.name, id);
-    }
-    const InputContext& context = node.context(id);
-    auto& had = given[id];
-    if (!(had == context)) {
-      had = context;
-      d->set_context(context, sample.t);
     }
     FrameSample s = sample;
     if (spec.wants_lidar) {
@@ -134,6 +153,25 @@ int run_node(const ServiceSpec& spec, const CommonOptions& common) {
         s.lidar_v_upper = s.lidar_v_lower = kNaN;
         s.valid_mask &= ~kValidLidar;
       }
+    }
+    // What the turbine's frames carry is learnt from its first samples and said once. The LIDAR, a topic of
+    // its own that may start later, is judged by its staleness instead.
+    InputPresence& p = presence[id];
+    if (p.samples < kPresenceSamples) {
+      p.seen |= channels_with_values(s);
+      if (++p.samples == kPresenceSamples) {
+        p.absent = kValidAll & ~kValidLidar & ~p.seen;
+        report_inputs(
+            spec.name, spec.inputs, [&](const std::string& c) { return (p.absent & valid_bit(c)) == 0; },
+            "turbine " + id, false);
+      }
+    }
+    InputContext context = node.context(id);
+    context.absent = p.absent;
+    auto& had = given[id];
+    if (!(had == context)) {
+      had = context;
+      d->set_context(context, s.t);
     }
     return feed(
         spec, id, *d, s, gap, [&](FaultEvent& e) { node.publish(e); },

@@ -13,6 +13,7 @@
 #include "fault_event.hpp"
 #include "frame_sample.hpp"
 #include "input_context.hpp"
+#include "input_uses.hpp"
 #include "turbine_params.hpp"
 #include "yaml_config.hpp"
 
@@ -44,6 +45,9 @@ struct ServiceSpec {
   std::string description;                    ///< one line for --help
   std::vector<std::string> estimate_columns;  ///< replay estimate columns after t and turbine_id
   bool wants_lidar = false;                   ///< merge wt/lidar into the samples
+  /// What it does with each input: said at start per recording or turbine; a recording with no essential
+  /// use's inputs exits 2 naming them.
+  std::vector<InputUse> inputs;
   /// Reads the service's configuration (without --config an empty section: every key at its default).
   /// Called once, before make().
   std::function<void(const YamlSection& config)> configure;
@@ -93,6 +97,7 @@ struct TypedService {
   std::string name;         ///< canonical service name, e.g. "pitch_diag"
   std::string description;  ///< one line for --help
   bool wants_lidar = false;
+  std::vector<InputUse> inputs;  ///< ServiceSpec::inputs
   EstimateFields<Estimate, Idl> fields;
   std::function<void(const YamlSection& config)> configure;
   std::function<std::unique_ptr<Core>(const std::string& turbine_id)> make;
@@ -108,6 +113,7 @@ ServiceSpec service_spec(TypedService<Core, Estimate, Idl> typed) {
   spec.description = s->description;
   spec.estimate_columns = csv_columns(s->fields);
   spec.wants_lidar = s->wants_lidar;
+  spec.inputs = s->inputs;
   spec.configure = s->configure;
   spec.make = [s](const std::string& id) -> std::unique_ptr<TurbineDiagnoser> {
     return std::make_unique<Diagnoser>(s->make(id), s->fields);

@@ -24,6 +24,10 @@ struct InputContext {
   /// deg/s, the pitch rate limit the arbiter commands per blade (infinite: none seen)
   std::array<double, 3> pitch_rate_limit{kNoLimit, kNoLimit, kNoLimit};
   static constexpr double kNoLimit = std::numeric_limits<double>::infinity();
+  /// Valid bits (frame_sample.hpp) of the channels the turbine's data does not carry at all (a recording
+  /// without those columns, a gateway that never sends them): a core does without them, or takes what the
+  /// configuration says for them, and does not count their absence as rejected samples.
+  uint32_t absent = 0;
   /// Counts the changes a transient follows: a suspect set that changed (the controller may switch to a
   /// corrected measurement) or a new control configuration from the arbiter.
   uint64_t transitions = 0;
@@ -34,7 +38,7 @@ struct InputContext {
            generator_speed_suspect == o.generator_speed_suspect &&
            pitch_sensor_suspect == o.pitch_sensor_suspect &&
            pitch_actuator_suspect == o.pitch_actuator_suspect && turbine_stopped == o.turbine_stopped &&
-           pitch_rate_limit == o.pitch_rate_limit && transitions == o.transitions;
+           pitch_rate_limit == o.pitch_rate_limit && absent == o.absent && transitions == o.transitions;
   }
 };
 

@@ -38,8 +38,10 @@ uint64_t SequenceTracker::lost_before(uint64_t sequence) {
 }
 
 ReplayStats run_replay(const ReplayOptions& options, const std::vector<std::string>& columns,
-                       const ReplayProcess& process) {
+                       const ReplayProcess& process,
+                       const std::function<void(const FrameCsvReader& reader)>& on_header) {
   FrameCsvReader reader(options.frames);
+  if (on_header) on_header(reader);
   ReplaySink sink(options, columns);
   std::map<std::string, SequenceTracker> trackers;
   ReplayStats stats;

@@ -11,6 +11,7 @@
 #include "fault_event.hpp"
 #include "frame_sample.hpp"
 #include "jsonl.hpp"
+#include "replay_csv.hpp"
 
 namespace windfdi {
 
@@ -52,8 +53,10 @@ using ReplayProcess =
 
 /// Reads every sample of `options.frames` in order and hands it to `process`. A malformed file throws
 /// ConfigError (exit code 2) naming file, line and column.
+/// `on_header` (optional) sees the recording's header before anything is written (it may throw).
 ReplayStats run_replay(const ReplayOptions& options, const std::vector<std::string>& estimate_columns,
-                       const ReplayProcess& process);
+                       const ReplayProcess& process,
+                       const std::function<void(const FrameCsvReader& reader)>& on_header = nullptr);
 
 /// Detects lost samples from per-turbine sequence numbers.
 class SequenceTracker {

@@ -60,6 +60,27 @@ const std::vector<std::string>& replay_columns() {
   return names;
 }
 
+uint32_t valid_bit(const std::string& column) {
+  for (const auto& c : specs())
+    if (column == c.name) return c.valid_bit;
+  return 0;
+}
+
+uint32_t absent_channels(const std::function<bool(const std::string&)>& has_column) {
+  uint32_t absent = 0;
+  for (const auto& c : specs())
+    if (c.valid_bit != 0 && !has_column(c.name)) absent |= c.valid_bit;
+  return absent;
+}
+
+uint32_t channels_with_values(const FrameSample& s) {
+  uint32_t present = 0;
+  for (const auto& c : specs())
+    if (c.valid_bit != 0 && (s.valid_mask & c.valid_bit) && std::isfinite(field(s, c)))
+      present |= c.valid_bit;
+  return present;
+}
+
 FrameCsvReader::FrameCsvReader(const std::string& path)
     : csv_(path),
       col_t_(csv_.column("t")),

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -12,6 +14,17 @@ namespace windfdi {
 
 /// The measured columns of the replay format, in the order the plant writes them.
 const std::vector<std::string>& replay_columns();
+
+/// The valid bit (frame_sample.hpp) of a replay column; 0 for a column without one (aero_torque,
+/// gen_torque_ref, aero_power: optional by nature, NaN when not given) or an unknown name.
+uint32_t valid_bit(const std::string& column);
+
+/// Valid bits of the measured channels a recording's header lacks (`has_column`): absent, not invalid.
+uint32_t absent_channels(const std::function<bool(const std::string&)>& has_column);
+
+/// Valid bits of the channels a sample carries: marked valid and finite (what "present" means on DDS, where
+/// every sample has every field).
+uint32_t channels_with_values(const FrameSample& sample);
 
 /// Reads FrameSamples from a replay CSV. Required: `t`; every other column is optional (a missing one
 /// reads as NaN and clears its valid bit). Unknown columns are ignored. When there is no `sequence`

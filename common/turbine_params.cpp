@@ -34,6 +34,7 @@ TurbineParams load_turbine_params(const YamlSection& s) {
                         "pitch_rate_limit",
                         "pitch_min",
                         "pitch_max",
+                        "fixed_pitch",
                         "ice_radius",
                         "ice_cp_loss",
                         "load_radius"});
@@ -58,6 +59,7 @@ TurbineParams load_turbine_params(const YamlSection& s) {
   p.pitch_rate_limit = s.get_number("pitch_rate_limit", p.pitch_rate_limit, 0.1, 100.0);
   p.pitch_min = s.get_number("pitch_min", p.pitch_min, -10.0, 10.0);
   p.pitch_max = s.get_number("pitch_max", p.pitch_max, 20.0, 95.0);
+  p.fixed_pitch = s.get_number("fixed_pitch", p.fixed_pitch, p.pitch_min, 30.0);
   p.ice_radius = s.get_number("ice_radius", p.ice_radius, 0.0, p.rotor_radius);
   p.ice_cp_loss = s.get_number("ice_cp_loss", p.ice_cp_loss, 0.0, 0.5);
   p.load_radius = s.get_number("load_radius", p.load_radius, 0.1, 1.0);

@@ -32,9 +32,12 @@ struct TurbineParams {
   double pitch_rate_limit = 10.0;         ///< deg/s
   double pitch_min = -2.0;                ///< deg
   double pitch_max = 90.0;                ///< deg
-  double ice_radius = 40.0;               ///< m, radius at which accreted ice mass adds inertia (m r^2)
-  double ice_cp_loss = 0.02;              ///< relative Cp loss per tonne of ice (-/t)
-  double load_radius = 0.7;               ///< effective radius of a blade's wind, share of the rotor radius
+  /// deg; the blade angle taken when the turbine's data carries no pitch at all (a fixed-pitch or
+  /// stall-regulated rotor, or a recording without pitch columns)
+  double fixed_pitch = 0.0;
+  double ice_radius = 40.0;   ///< m, radius at which accreted ice mass adds inertia (m r^2)
+  double ice_cp_loss = 0.02;  ///< relative Cp loss per tonne of ice (-/t)
+  double load_radius = 0.7;   ///< effective radius of a blade's wind, share of the rotor radius
 
   double rotor_area() const;  ///< m^2
   /// Lumped inertia referred to the generator side, (J_r + N^2 J_g) / N^2 (Stotsky & Egardt 2013, errata in

@@ -89,6 +89,16 @@ ServiceSpec blade_load_spec() {
       "Blade-root moment sensor faults from the first harmonic, strain gauge vs LIDAR load model (Stotsky "
       "2014)";
   s.wants_lidar = true;
+  s.inputs = {
+      {"the first harmonic of each blade's root moment (the gauges against each other)",
+       {"blade_moment_1", "blade_moment_2", "blade_moment_3", "azimuth", "rotor_speed"},
+       true,
+       "the blade-moment sensors are not diagnosed"},
+      {"the LIDAR load model, a witness independent of the gauges",
+       {"lidar_v_upper", "lidar_v_lower", "pitch_1", "pitch_2", "pitch_3"},
+       false,
+       "detection relies on the blade-vs-blade channels (a fault common to every gauge goes unseen)"},
+  };
   // The replay contract's columns first (a1_sensor, a1_model, delta_a), then the validity flags.
   s.fields = {
       per_blade_numbers<E, Idl>(

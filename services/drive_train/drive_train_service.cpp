@@ -23,6 +23,21 @@ ServiceSpec drive_train_spec() {
   s.name = "drive_train";
   s.description =
       "Converter torque offset and drive-train efficiency loss (the FDI/FTC benchmark's faults 8 and 9)";
+  s.inputs = {
+      {"the converter test: measured torque against the converter's response to its reference, power as "
+       "witness",
+       {"gen_torque", "gen_torque_ref", "generator_speed", "power"},
+       true,
+       "no converter torque-offset diagnosis"},
+      {"the energy balance: electrical against aerodynamic power (efficiency)",
+       {"gen_torque", "generator_speed", "wind_hub"},
+       true,
+       "no efficiency diagnosis (unless the recording has aero_power)"},
+      {"each blade's pitch in the power model",
+       {"pitch_1", "pitch_2", "pitch_3"},
+       false,
+       "the rotor is taken as fixed-pitch at absent_pitch"},
+  };
   s.fields = {
       number_field<E, Idl>(
           "torque_offset", [](const E& e) { return e.torque_offset; },

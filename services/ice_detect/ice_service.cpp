@@ -23,6 +23,20 @@ ServiceSpec ice_detect_spec() {
   TypedService<IceTurbine, E, Idl> s;
   s.name = "ice_detect";
   s.description = "Ice accretion and shedding from the estimated rotor inertia (Stotsky & Egardt 2013)";
+  s.inputs = {
+      {"the inertia regression (Stotsky & Egardt eq 2)",
+       {"generator_speed", "gen_torque"},
+       true,
+       "no ice diagnosis"},
+      {"the aerodynamic power model on the anemometer",
+       {"wind_hub", "rotor_speed"},
+       false,
+       "the recording's aero_power column is needed instead, or no ice diagnosis"},
+      {"each blade's pitch in the power model",
+       {"pitch_1", "pitch_2", "pitch_3"},
+       false,
+       "the rotor is taken as fixed-pitch at absent_pitch (a stall-regulated or fixed-pitch machine)"},
+  };
   s.fields = {
       number_field<E, Idl>(
           "inertia", [](const E& e) { return e.inertia; }, [](Idl& o, double v) { o.inertia(v); }),

@@ -24,6 +24,10 @@ ServiceSpec pitch_diag_spec() {
   TypedService<PitchDiagnoser, E, Idl> s;
   s.name = "pitch_diag";
   s.description = "Pitch-actuator fault diagnosis by model identification (Wu & Li, MIFG)";
+  s.inputs = per_blade({"the identification of blade {blade}'s actuator (Wu & Li Table 1 faults)",
+                        {"pitch", "pitch_ref"},
+                        true,
+                        "blade {blade}'s actuator is not diagnosed"});
   // The replay contract's columns first (omega_n, zeta, class), then the fault indicator and the excitation.
   s.fields = {
       per_blade_numbers<E, Idl>(

@@ -29,6 +29,26 @@ ServiceSpec sensor_bias_spec() {
   s.description =
       "Speed and pitch sensor biases with a quadratic-boundedness observer (Witczak, Pazera, Puig, "
       "Mrugalski)";
+  s.inputs = {
+      {"the drive-train observer: rotor- and generator-speed sensor faults",
+       {"rotor_speed", "generator_speed", "gen_torque"},
+       true,
+       "the speed sensors are not diagnosed"},
+      {"the aerodynamic torque model on the anemometer, the drive-train observer's input",
+       {"wind_hub"},
+       false,
+       "the recording's aero_torque column is needed instead, or the speed sensors are not diagnosed"},
+      {"the power witness P / (eta_g T_g): a bias common to both speed sensors, gain against offset",
+       {"power"},
+       false,
+       "a bias common to both speed sensors goes unseen, and a speed fault is reported as an offset "
+       "(sensor_bias) at type_decision_time"},
+  };
+  for (auto& u : per_blade({"the pitch observer of blade {blade}: its pitch sensor's faults",
+                            {"pitch", "pitch_ref"},
+                            true,
+                            "blade {blade}'s pitch sensor is not diagnosed"}))
+    s.inputs.push_back(u);
   // The replay contract's five columns first, then the corrected measurements, the bound ratio and the
   // aerodynamic torque the observer was driven with (CSV only: a diagnostic of the model, not for the bus).
   s.fields = {

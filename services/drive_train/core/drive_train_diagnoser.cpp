@@ -28,6 +28,7 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
   v.clear_time = s.get_number("offset_clear_time", v.clear_time, 0.0, 600.0);
   EfficiencyConfig& e = c.efficiency;
   e.gear_ratio = turbine.gear_ratio;
+  c.fixed_pitch = turbine.fixed_pitch;
   e.rotor_inertia = turbine.rotor_inertia;
   e.generator_inertia = turbine.generator_inertia;
   e.rotor_friction = turbine.rotor_friction;
@@ -67,6 +68,7 @@ void DriveTrainDiagnoser::set_context(const InputContext& context, double) {
     newly_suspect = newly_suspect || (context.pitch_sensor_suspect[i] && !context_.pitch_sensor_suspect[i]);
   if (newly_suspect) efficiency_.discard_recent(c_.context_lookback);
   context_ = context;
+  aero_power_.set_absent(context.absent, c_.fixed_pitch);
 }
 
 bool DriveTrainDiagnoser::update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events) {

@@ -22,6 +22,7 @@ struct DiagnoserConfig {
   EfficiencyConfig efficiency;
   double estimate_rate = 10.0;     ///< Hz
   double wind_window = 2.0;        ///< s, centred anemometer average before the power model
+  double fixed_pitch = 0.0;        ///< deg, the turbine file's: taken for a pitch the data does not carry
   double context_lookback = 60.0;  ///< s of energy-balance blocks dropped when a speed or pitch sensor is
                                    ///< newly reported by another service (sensor_bias needs up to ~50 s)
   double sample_time = 0.01;       ///< s, the frame period (the benchmark's 100 Hz)

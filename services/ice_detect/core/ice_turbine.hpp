@@ -13,7 +13,9 @@ class IceTurbine {
  public:
   /// `aero` must outlive this object (one model per process).
   IceTurbine(const DetectorConfig& config, const TurbineParams& turbine, const AeroModel& aero)
-      : detector_(config, turbine), aero_power_(aero, config.wind_window, config.estimator.sample_time) {}
+      : detector_(config, turbine),
+        aero_power_(aero, config.wind_window, config.estimator.sample_time),
+        fixed_pitch_(turbine.fixed_pitch) {}
 
   /// Feeds one sample; it is judged half an anemometer window later (AeroPowerInput). False when the
   /// sample judged now was rejected.
@@ -25,12 +27,16 @@ class IceTurbine {
     return detector_.update(centre, power, centre_gap, events);
   }
   bool estimate_due(InertiaOutput& out) { return detector_.estimate_due(out); }
-  void set_context(const InputContext& context, double) { detector_.set_context(context); }
+  void set_context(const InputContext& context, double) {
+    detector_.set_context(context);
+    aero_power_.set_absent(context.absent, fixed_pitch_);
+  }
   const IceDetector& detector() const { return detector_; }
 
  private:
   IceDetector detector_;
   AeroPowerInput aero_power_;
+  double fixed_pitch_;  // deg, for a pitch the data does not carry
 };
 
 }  // namespace windfdi::ice_detect

@@ -169,8 +169,9 @@ double BiasEstimator::aero_torque(const FrameSample& s) const {
   double beta = 0.0;
   for (int i = 0; i < kBlades; ++i) {
     const std::size_t c = static_cast<std::size_t>(2 + i);
-    const double b =
-        pitch_init_[static_cast<std::size_t>(i)] ? out_.corrected[c] : s.pitch[static_cast<std::size_t>(i)];
+    const double b = (context_.absent & (kValidPitch1 << i))    ? turbine_.fixed_pitch
+                     : pitch_init_[static_cast<std::size_t>(i)] ? out_.corrected[c]
+                                                                : s.pitch[static_cast<std::size_t>(i)];
     if (!std::isfinite(b)) return kNaN;
     beta += b / kBlades;
   }
@@ -202,7 +203,10 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
     const bool ok = in(y, cfg_.pitch_min, cfg_.pitch_max) && in(r, cfg_.pitch_min, cfg_.pitch_max) &&
                     (s.valid_mask & (kValidPitch1 << i)) && (s.valid_mask & (kValidPitchRef1 << i));
     if (!ok) {
-      all_ok = false;
+      // A pitch the data does not carry at all is a blade not diagnosed (said at start), not a rejected
+      // sample.
+      const uint32_t bits = (kValidPitch1 | kValidPitchRef1) << i;
+      if ((context_.absent & bits) == 0) all_ok = false;
       continue;
     }
     const Eigen::Matrix<double, 1, 1> yv(y), uv(r);

@@ -1,0 +1,179 @@
+// Every diagnostic service on recordings that carry only some of its inputs: it says at start what it has and
+// lacks, does without what is absent (absent is not invalid: no rejected samples), and a recording without
+// any input it needs exits 2 naming them.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "process.hpp"
+#include "test_util.hpp"
+
+using namespace windfdi::test;
+
+namespace {
+
+const std::string kDeploy = WINDFDI_SOURCE_DEPLOY_DIR;
+
+struct Service {
+  const char* exe;
+  const char* config;
+  const char* needs;  ///< a column the error must name
+};
+
+void PrintTo(const Service& s, std::ostream* os) { *os << s.exe; }
+
+// Copies a CSV without the named columns.
+void drop_columns(const std::string& from, const std::string& to, const std::set<std::string>& drop) {
+  std::ifstream in(from);
+  std::ofstream out(to);
+  std::vector<bool> keep;
+  for (std::string line; std::getline(in, line);) {
+    std::stringstream cells(line);
+    std::string cell, row;
+    std::size_t i = 0;
+    for (; std::getline(cells, cell, ','); ++i) {
+      if (keep.size() <= i) keep.push_back(drop.count(cell) == 0);  // the header decides
+      if (keep[i]) row += (row.empty() ? "" : ",") + cell;
+    }
+    out << row << "\n";
+  }
+}
+
+struct Replay {
+  int code;
+  std::string log;
+};
+
+Replay replay(const Service& s, const std::string& csv, const std::string& dir) {
+  ChildProcess p({bin(s.exe), "--config", kDeploy + "/config/" + s.config, "--replay", csv, "--estimates",
+                  dir + "/est.csv", "--events", dir + "/events.jsonl"},
+                 {}, s.exe);
+  const int code = p.wait(std::chrono::seconds(120));
+  return {code, p.stderr_text() + p.stdout_text()};
+}
+
+class ReplayInputs : public ::testing::TestWithParam<Service> {};
+
+TEST_P(ReplayInputs, ARecordingWithNoneOfItsInputsExitsTwoNamingThem) {
+  const Service& s = GetParam();
+  // GIVEN a recording of time, turbine and wind only
+  const std::string dir = temp_dir(std::string(s.exe) + "_inputs");
+  std::ofstream(dir + "/wind.csv") << "t,turbine_id,wind_hub\n0,WT01,8.0\n0.01,WT01,8.1\n";
+  // WHEN the service replays it
+  const Replay r = replay(s, dir + "/wind.csv", dir);
+  // THEN it exits 2, naming the file, line 1 and the inputs it lacks, and writes nothing
+  EXPECT_EQ(r.code, 2) << r.log;
+  EXPECT_NE(r.log.find(dir + "/wind.csv:1"), std::string::npos) << r.log;
+  EXPECT_NE(r.log.find(s.needs), std::string::npos) << r.log;
+  EXPECT_NE(r.log.find("carries none of the inputs"), std::string::npos) << r.log;
+  EXPECT_FALSE(std::ifstream(dir + "/est.csv").good());
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    EveryService, ReplayInputs,
+    ::testing::Values(Service{"windfdi-sensor-bias", "sensor_bias.yaml", "generator_speed"},
+                      Service{"windfdi-pitch-diag", "pitch_diag.yaml", "pitch_ref_2"},
+                      Service{"windfdi-blade-load", "blade_load.yaml", "blade_moment_3"},
+                      Service{"windfdi-ice-detect", "ice_detect.yaml", "gen_torque"},
+                      Service{"windfdi-drive-train", "drive_train.yaml", "gen_torque_ref"}),
+    [](const auto& i) {
+      std::string n = std::string(i.param.exe).substr(8);
+      for (auto& c : n)
+        if (c == '-') c = '_';
+      return n;
+    });
+
+// The estimate column `name` of an estimates CSV, from row `skip` on.
+std::vector<double> column(const std::string& csv, const std::string& name, std::size_t skip) {
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  std::stringstream h(line);
+  std::size_t at = 0, i = 0;
+  for (std::string c; std::getline(h, c, ','); ++i)
+    if (c == name) at = i;
+  std::vector<double> out;
+  for (std::size_t row = 0; std::getline(in, line); ++row) {
+    if (row < skip) continue;
+    std::stringstream cells(line);
+    std::string c;
+    for (std::size_t k = 0; k <= at; ++k) std::getline(cells, c, ',');
+    out.push_back(std::stod(c));
+  }
+  return out;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+// Records `scenario_yaml` with the plant into DIR/full.csv and writes DIR/no_pitch.csv: the same recording
+// without any pitch column, as from a fixed-pitch or stall-regulated turbine.
+void record_without_pitch(const std::string& dir, const std::string& scenario_yaml) {
+  std::ofstream(dir + "/s.yaml") << scenario_yaml;
+  ChildProcess plant(
+      {bin("windfdi-plant"), "--scenario", dir + "/s.yaml", "--offline", "--record", dir + "/full.csv"}, {},
+      "plant");
+  ASSERT_EQ(plant.wait(std::chrono::seconds(60)), 0) << plant.stderr_text();
+  drop_columns(dir + "/full.csv", dir + "/no_pitch.csv",
+               {"pitch_1", "pitch_2", "pitch_3", "pitch_ref_1", "pitch_ref_2", "pitch_ref_3"});
+}
+
+TEST(ReplayWithoutPitch, IceDetectTakesTheRotorAsFixedPitchAndRejectsNothing) {
+  // GIVEN a plant recording of 10 min at 10 m/s (below rated: the blades stand at 0 deg) and the same
+  // recording without any pitch column, as from a fixed-pitch or stall-regulated turbine
+  const std::string dir = temp_dir("ice_no_pitch");
+  ASSERT_NO_FATAL_FAILURE(record_without_pitch(
+      dir,
+      "duration: 600\nseed: 5\nturbines:\n  - {id: WT01, wind: {mean: 10.0, turbulence_intensity: 0.12}}\n"
+      "faults: []\n"));
+  const Service ice{"windfdi-ice-detect", "ice_detect.yaml", ""};
+  // WHEN ice_detect replays both
+  std::string full_dir = dir + "/full", part_dir = dir + "/part";
+  std::filesystem::create_directories(full_dir);
+  std::filesystem::create_directories(part_dir);
+  const Replay full = replay(ice, dir + "/full.csv", full_dir);
+  const Replay part = replay(ice, dir + "/no_pitch.csv", part_dir);
+  ASSERT_EQ(full.code, 0) << full.log;
+  ASSERT_EQ(part.code, 0) << part.log;
+  // THEN it says at start that it lacks the pitch and what it does instead, rejects no sample ...
+  EXPECT_NE(part.log.find("lacks pitch_1, pitch_2, pitch_3"), std::string::npos) << part.log;
+  EXPECT_NE(part.log.find("fixed-pitch"), std::string::npos) << part.log;
+  EXPECT_NE(part.log.find(" 0 rejected"), std::string::npos) << part.log;
+  // ... and estimates the inertia as it does with the pitch (within 1 %; before, a missing pitch counted as
+  // feathered and nothing was estimated)
+  const double with = median(column(full_dir + "/est.csv", "inertia", 300));
+  const double without = median(column(part_dir + "/est.csv", "inertia", 300));
+  std::printf("[ measured ] inertia median with pitch %.1f, without %.1f kg m^2\n", with, without);
+  EXPECT_GT(with, 1000.0);
+  EXPECT_NEAR(without, with, 0.01 * with);
+}
+
+TEST(ReplayWithoutPitch, SensorBiasDiagnosesTheSpeedsAndRejectsNothing) {
+  // GIVEN the healthy recording without pitch columns, with a generator-speed offset added from 200 s
+  const std::string dir = temp_dir("bias_no_pitch");
+  ASSERT_NO_FATAL_FAILURE(record_without_pitch(
+      dir,
+      "duration: 400\nseed: 6\nturbines:\n  - {id: WT01, wind: {mean: 10.0, turbulence_intensity: 0.1}}\n"
+      "faults:\n  - {turbine: WT01, target: generator_speed, type: bias, value: 4.0, start: 200}\n"));
+  // WHEN sensor_bias replays it
+  const Replay r = replay({"windfdi-sensor-bias", "sensor_bias.yaml", ""}, dir + "/no_pitch.csv", dir);
+  ASSERT_EQ(r.code, 0) << r.log;
+  // THEN it says which blades it cannot diagnose, rejects no sample, and finds the speed sensor's offset
+  EXPECT_NE(r.log.find("blade 2's pitch sensor is not diagnosed"), std::string::npos) << r.log;
+  EXPECT_NE(r.log.find(" 0 rejected"), std::string::npos) << r.log;
+  const auto events = json_lines(read_file(dir + "/events.jsonl"));
+  ASSERT_FALSE(events.empty()) << r.log;
+  EXPECT_EQ(events[0]["component"], "generator_speed_sensor");
+  EXPECT_EQ(events[0]["fault"], "sensor_bias") << events[0].dump();
+  EXPECT_GT(events[0]["t"].get<double>(), 200.0);
+  EXPECT_LT(events[0]["t"].get<double>(), 206.0);
+}
+
+}  // namespace
