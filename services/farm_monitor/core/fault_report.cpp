@@ -19,8 +19,8 @@ namespace {
 constexpr double kAfterEnd = 60.0;
 // s a stop may follow the end of the fault that warranted it (confirmation, the configuration's way back).
 constexpr double kStopAfterEnd = 300.0;
-// Ice that warrants a stop: ice_detect's critical level (deploy/config/ice_detect.yaml critical_mass), less
-// the estimator's error (rms 1 % of the inertia, about 400 kg).
+// Ice that warrants a stop: ice_detect's critical level on the benchmark rotor (deploy/config/ice_detect.yaml
+// critical_rise: 4500 kg there), less the estimator's error (rms 1 % of the inertia, about 400 kg).
 constexpr double kStopIceMass = 4500.0, kStopIceShare = 0.9, kStopIceWindow = 120.0;
 
 double detected_at(const nlohmann::json& d) {

@@ -19,9 +19,9 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
                         "learn_time",
                         "median_estimates",
                         "ice_radius",
-                        "warning_mass",
-                        "fault_mass",
-                        "critical_mass",
+                        "warning_rise",
+                        "fault_rise",
+                        "critical_rise",
                         "critical_margin",
                         "critical_confirm_time",
                         "confirm_time",
@@ -33,7 +33,7 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
                         "shed_median",
                         "shed_confirm",
                         "shed_fraction",
-                        "shed_min_ice",
+                        "shed_min_rise",
                         "shed_hold",
                         "min_generator_speed",
                         "min_gen_torque",
@@ -70,9 +70,9 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
   c.learn_time = s.get_number("learn_time", c.learn_time, 0.0, 1e6);
   c.median_estimates = s.get_number("median_estimates", c.median_estimates, 1.0, 600.0);
   c.ice_radius = s.get_number("ice_radius", c.ice_radius, 1.0, 200.0);
-  c.warning_mass = s.get_number("warning_mass", c.warning_mass, 0.0, 1e6);
-  c.fault_mass = s.get_number("fault_mass", c.fault_mass, c.warning_mass, 1e6);
-  c.critical_mass = s.get_number("critical_mass", c.critical_mass, c.fault_mass, 1e6);
+  c.warning_rise = s.get_number("warning_rise", c.warning_rise, 0.0, 2.0);
+  c.fault_rise = s.get_number("fault_rise", c.fault_rise, c.warning_rise, 2.0);
+  c.critical_rise = s.get_number("critical_rise", c.critical_rise, c.fault_rise, 2.0);
   c.critical_margin = s.get_number("critical_margin", c.critical_margin, 0.0, 2.0);
   c.critical_confirm_time = s.get_number("critical_confirm_time", c.critical_confirm_time, 0.0, 3600.0);
   c.confirm_time = s.get_number("confirm_time", c.confirm_time, 0.0, 3600.0);
@@ -84,7 +84,7 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
   c.shed_median = s.get_number("shed_median", c.shed_median, 1.0, 600.0);
   c.shed_confirm = s.get_number("shed_confirm", c.shed_confirm, 0.0, 600.0);
   c.shed_fraction = s.get_number("shed_fraction", c.shed_fraction, 0.001, 0.5);
-  c.shed_min_ice = s.get_number("shed_min_ice", c.shed_min_ice, 0.0, 1e6);
+  c.shed_min_rise = s.get_number("shed_min_rise", c.shed_min_rise, 0.0, 2.0);
   c.shed_hold = s.get_number("shed_hold", c.shed_hold, 1.0, 3600.0);
   c.min_generator_speed = s.get_number("min_generator_speed", c.min_generator_speed, 0.0, 1000.0);
   c.min_gen_torque = s.get_number("min_gen_torque", c.min_gen_torque, 0.0, 1e6);
@@ -230,7 +230,7 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
       fast_recent_.empty() ? 0.0 : median(std::vector<double>(fast_recent_.begin(), fast_recent_.end()));
   const double drop = out_.inertia - fast;
   // Only ice that was reported can fall off: without it a drop is estimation noise.
-  const bool iced = out_.ice_mass >= cfg_.shed_min_ice && raised_level_ > 0;
+  const bool iced = out_.ice_mass >= ice_mass_at(cfg_.shed_min_rise) && raised_level_ > 0;
   // After a shedding the slow estimate needs a window and a median to come down: until then its lag is no
   // drop.
   const bool settled = shed_last_ < 0.0 || t - shed_last_ >= cfg_.estimator.window + cfg_.median_estimates;
@@ -275,8 +275,8 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
 
 void IceDetector::level_events(double t, std::vector<FaultEvent>& events) {
   const double m = out_.ice_mass;
-  const double thresholds[] = {cfg_.warning_mass, cfg_.fault_mass,
-                               cfg_.critical_mass * (1.0 + cfg_.critical_margin)};
+  const double thresholds[] = {ice_mass_at(cfg_.warning_rise), ice_mass_at(cfg_.fault_rise),
+                               ice_mass_at(cfg_.critical_rise) * (1.0 + cfg_.critical_margin)};
   int level = 0;
   for (int i = 0; i < 3; ++i)
     if (m >= thresholds[i]) level = i + 1;
@@ -287,9 +287,12 @@ void IceDetector::level_events(double t, std::vector<FaultEvent>& events) {
     e.statistic = m;
     e.threshold = thresholds[std::max(lvl, 1) - 1];
     e.size = m;
-    e.detail = "inertia " + std::to_string(static_cast<int>(out_.inertia)) + " kg m^2 vs clean " +
-               std::to_string(static_cast<int>(j0_)) + ": about " + std::to_string(static_cast<int>(m)) +
-               " kg of ice";
+    char d[200];
+    std::snprintf(d, sizeof d,
+                  "inertia %.0f kg m^2 vs clean %.0f (%+.1f %%, level %.1f %%): about %.0f kg of ice",
+                  out_.inertia, j0_, 100.0 * (out_.inertia / j0_ - 1.0),
+                  100.0 * e.threshold / (j0_ * mass_per_inertia_), m);
+    e.detail = d;
     events.push_back(e);
   };
   // Raise (or raise further) once the mass has stayed above the raised level for confirm_time. The stop level

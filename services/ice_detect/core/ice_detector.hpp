@@ -16,18 +16,19 @@ namespace windfdi::ice_detect {
 
 struct DetectorConfig {
   EstimatorConfig estimator;
-  double wind_window = 0.5;       ///< s, centred average of the anemometer before the power model (0: none)
-  double clean_inertia = 0.0;     ///< kg m^2 generator side, J0; 0: the turbine's lumped inertia
-  double learn_time = 0.0;        ///< s; > 0: learn J0 as the median estimate over this time instead
-  double median_estimates = 61;   ///< 1 Hz estimates in the running median that is reported
-  double ice_radius = 40.0;       ///< m, radius of gyration of the ice (m r^2 of rotor inertia)
-  double gear_ratio = 95.0;       ///< N, to refer the rotor inertia to the generator side
-  double warning_mass = 1700.0;   ///< kg of ice for an ice_accretion warning (5 % of J0 is about 1830 kg)
-  double fault_mass = 2500.0;     ///< kg for severity fault
-  double critical_mass = 4500.0;  ///< kg for severity critical (the arbiter stops the turbine)
-  double critical_margin = 0.2;   ///< the stop level needs an estimate this share above critical_mass: the
-                                  ///< estimate's error (1-4 % of inertia, 370-1460 kg) must not stop a rotor
-                                  ///< carrying less than critical_mass
+  double wind_window = 0.5;      ///< s, centred average of the anemometer before the power model (0: none)
+  double clean_inertia = 0.0;    ///< kg m^2 generator side, J0; 0: the turbine's lumped inertia
+  double learn_time = 0.0;       ///< s; > 0: learn J0 as the median estimate over this time instead
+  double median_estimates = 61;  ///< 1 Hz estimates in the running median that is reported
+  double ice_radius = 40.0;      ///< m, radius of gyration of the ice (m r^2 of rotor inertia)
+  double gear_ratio = 95.0;      ///< N, to refer the rotor inertia to the generator side
+  // Ice levels as a rise of the inertia over the clean rotor's J0, so that they hold on any turbine; on the
+  // 4.8 MW benchmark rotor (J0 6484 kg m^2 generator side, ice at 40 m) 1 % is 366 kg of ice.
+  double warning_rise = 0.0465;   ///< ice_accretion warning (1700 kg on the benchmark rotor)
+  double fault_rise = 0.0684;     ///< severity fault (2500 kg)
+  double critical_rise = 0.1230;  ///< severity critical, the arbiter stops the turbine (4500 kg)
+  double critical_margin = 0.2;   ///< the stop level needs an estimate this share above critical_rise: the
+                                  ///< estimate's error (1-4 % of inertia) must not stop a rotor below it
   double critical_confirm_time = 60.0;  ///< s of fresh (excited) estimates above it before critical is raised
   double confirm_time = 10.0;           ///< s a level must hold before it is raised
   double clear_time = 30.0;             ///< s below the clear level before a raised level clears
@@ -43,8 +44,9 @@ struct DetectorConfig {
   double shed_confirm = 45.0;  ///< s the drop must hold
   double shed_fraction =
       0.05;  ///< drop of the fast estimate below the slow one, share of J0, for ice_shedding
-  double shed_min_ice = 500.0;  ///< kg of ice that must be estimated, with ice_accretion raised, to shed
-  double shed_hold = 60.0;      ///< s an ice_shedding report stays raised
+  double shed_min_rise = 0.0137;  ///< inertia rise (500 kg on the benchmark rotor) that must be estimated,
+                                  ///< with ice_accretion raised, to shed
+  double shed_hold = 60.0;        ///< s an ice_shedding report stays raised
   double min_generator_speed = 30.0;  ///< rad/s below which the estimator is not fed (standstill)
   double min_gen_torque = 3000.0;     ///< N m; below it the turbine is not producing (stopping): not fed
   double max_pitch = 30.0;            ///< deg; above it (feathering) the power model is not trusted: not fed
@@ -89,7 +91,9 @@ class IceDetector {
   void level_events(double t, std::vector<FaultEvent>& events);
 
   DetectorConfig cfg_;
-  double mass_per_inertia_;     // kg of ice per kg m^2 of generator-side inertia
+  double mass_per_inertia_;  // kg of ice per kg m^2 of generator-side inertia
+  /// kg of ice that raises the clean inertia by `rise` (a share of J0).
+  double ice_mass_at(double rise) const { return rise * j0_ * mass_per_inertia_; }
   InertiaEstimator estimator_;  // the reported inertia (long window)
   InertiaEstimator fast_;       // short window: sees a shedding step within a minute
   std::deque<double> fast_recent_;

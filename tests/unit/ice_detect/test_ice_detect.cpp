@@ -123,8 +123,8 @@ struct PlantRun {
 
 PlantRun run_plant(double wind, int seconds, bool model_power,
                    const std::vector<plant::FaultSpec>& faults = {}, double ice = 0.0, uint64_t seed = 7,
-                   const YamlSection& config = defaults(), const InputContext& context = {}) {
-  TurbineParams p;
+                   const YamlSection& config = defaults(), const InputContext& context = {},
+                   const TurbineParams& p = TurbineParams{}) {
   AeroModel aero(p);
   plant::TurbineScenario t;
   t.id = "WT01";
@@ -212,7 +212,7 @@ TEST(IceDetector, AccretionRampIsFlaggedAndSized) {
   const double true_mass = 2500.0 * std::min(1.0, (first.t - 300.0) / 600.0);
   EXPECT_NEAR(first.size, true_mass, 0.4 * true_mass) << first.t;
   // A 5 % inertia increase (about 1830 kg) is flagged: the warning level sits below it.
-  EXPECT_LT(load_detector_config(defaults(), TurbineParams{}).warning_mass, 1830.0);
+  EXPECT_LT(load_detector_config(defaults(), TurbineParams{}).warning_rise, 0.05);
 }
 
 plant::FaultSpec shedding(double fraction, double start) {
@@ -286,8 +286,8 @@ TEST(IceDetector, OnlyStrongSettledEvidenceRaisesTheStopLevel) {
       if (e.fault == "ice_accretion" && e.raised && e.severity == severity) return &e;
     return nullptr;
   };
-  // GIVEN a rotor carrying 4000 kg of ice, below critical_mass (4500 kg) but within the estimate's error of
-  // it
+  // GIVEN a rotor carrying 4000 kg of ice, below the critical level (critical_rise, 4500 kg) but within the
+  // estimate's error of it
   const auto light = run_plant(12.0, 1500, true, {}, 4000.0, 41);
   // THEN it is reported (fault level) and never stopped
   EXPECT_NE(first(light, "fault"), nullptr) << describe(light);
@@ -301,7 +301,9 @@ TEST(IceDetector, OnlyStrongSettledEvidenceRaisesTheStopLevel) {
   ASSERT_NE(critical, nullptr) << describe(heavy);
   EXPECT_LT(fault->t, critical->t);
   EXPECT_GE(critical->t - critical->t_detected, cfg.critical_confirm_time - 1.0) << describe(heavy);
-  EXPECT_GT(critical->size, cfg.critical_mass * (1.0 + cfg.critical_margin));
+  // (the detail gives the level as an inertia rise, the size the kilograms: 12.3 % is 4500 kg here)
+  EXPECT_GT(critical->size, 4490.0 * (1.0 + cfg.critical_margin));
+  EXPECT_NE(critical->detail.find("level 14.8 %"), std::string::npos) << critical->detail;
 }
 
 TEST(IceDetector, AReportedPitchSensorHoldsTheEstimate) {
@@ -403,11 +405,30 @@ TEST(AeroPowerInput, AveragesTheAnemometerAroundEachSampleAndLosesNone) {
   for (std::size_t i = 0; i < t_out.size(); ++i) EXPECT_NEAR(t_out[i], static_cast<double>(i) * 0.01, 1e-9);
 }
 
+TEST(IceDetector, TheIceLevelsAreTheTurbinesOwnInertiaRise) {
+  // GIVEN a lighter rotor (20 000 t m^2 instead of 55 000) carrying 1000 kg of ice at 12 m/s: a 6.8 % inertia
+  // rise, below the 4.8 MW rotor's 1700 kg warning in kilograms
+  TurbineParams light;
+  light.rotor_inertia = 20.0e6;
+  const auto r = run_plant(12.0, 1200, true, {}, 1000.0, 43, defaults(), {}, light);
+  // THEN the warning is raised (the level is 4.65 % of this rotor's clean inertia, 650 kg), with the
+  // kilograms and the rise in its detail
+  const FaultEvent* warning = nullptr;
+  for (const auto& e : r.events)
+    if (e.fault == "ice_accretion" && e.raised && !warning) warning = &e;
+  ASSERT_NE(warning, nullptr) << describe(r);
+  std::printf("light rotor, 1000 kg of ice: %s\n", warning->detail.c_str());
+  EXPECT_EQ(warning->severity, "warning");
+  EXPECT_NEAR(warning->threshold, 0.0465 * (20.0e6 / (95.0 * 95.0) + 390.0) * 95.0 * 95.0 / (40.0 * 40.0),
+              1.0);
+  EXPECT_NE(warning->detail.find("level 4.7 %"), std::string::npos) << warning->detail;
+}
+
 TEST(IceDetector, ConfigRejectsUnknownKeysAndBadRanges) {
   EXPECT_THROW(load_detector_config(YamlSection(YAML::Load("windw: 60"), "x.yaml"), TurbineParams{}),
                ConfigError);
-  EXPECT_THROW(load_detector_config(YamlSection(YAML::Load("fault_mass: 10"), "x.yaml"), TurbineParams{}),
-               ConfigError);  // below warning_mass
+  EXPECT_THROW(load_detector_config(YamlSection(YAML::Load("fault_rise: 0.01"), "x.yaml"), TurbineParams{}),
+               ConfigError);  // below warning_rise
   EXPECT_EQ(
       load_detector_config(YamlSection(YAML::Load("window: 90"), "x.yaml"), TurbineParams{}).estimator.window,
       90.0);
