@@ -79,7 +79,7 @@ ServiceSpec sensor_bias_spec() {
   };
   s.configure = [state](const YamlSection& cfg) {
     state->turbine = configured_turbine(cfg);
-    state->config = load_bias_config(cfg, deploy_dir() + "/sensor_bias");
+    state->config = load_bias_config(cfg, deploy_dir() + "/sensor_bias", state->turbine);
     state->drive_train = load_gain_file(state->config.drive_train_gain_file);
     state->pitch = load_gain_file(state->config.pitch_gain_file);
     // Construct once so a gain file of the wrong shape fails at start-up, not at the first sample.

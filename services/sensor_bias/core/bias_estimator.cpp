@@ -15,13 +15,15 @@ const std::array<const char*, kChannels>& channel_components() {
   return c;
 }
 
-BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gain_dir) {
+BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gain_dir,
+                            const TurbineParams& turbine) {
   s.require_known_keys({"turbine_file",
                         "mode",
                         "drive_train_gains",
                         "pitch_gains",
                         "paper_drive_train_gains",
                         "paper_pitch_gains",
+                        "threshold_speed_share",
                         "threshold_rotor_speed",
                         "threshold_generator_speed",
                         "threshold_pitch",
@@ -30,6 +32,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
                         "clear_time",
                         "filter_time",
                         "settle_time",
+                        "witness_torque_share",
                         "witness_torque_min",
                         "max_tracking_error",
                         "stuck_time",
@@ -61,8 +64,13 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
     c.drive_train_gain_file = path("paper_drive_train_gains", "gains_drive_train_paper.yaml");
     c.pitch_gain_file = path("paper_pitch_gains", "gains_pitch_paper.yaml");
   }
-  c.threshold[0] = s.get_number("threshold_rotor_speed", c.threshold[0], 1e-6, 5.0);
-  c.threshold[1] = s.get_number("threshold_generator_speed", c.threshold[1], 1e-4, 400.0);
+  // The turbine's own scale: a share of its rated speeds and torque, unless given in absolute units.
+  const double speed_share = s.get_number("threshold_speed_share", 0.01, 1e-4, 0.5);
+  const double rated_generator_speed = turbine.rated_generator_speed;
+  c.threshold[0] = s.get_number("threshold_rotor_speed",
+                                speed_share * rated_generator_speed / turbine.gear_ratio, 1e-6, 5.0);
+  c.threshold[1] =
+      s.get_number("threshold_generator_speed", speed_share * rated_generator_speed, 1e-4, 400.0);
   c.threshold[2] = c.threshold[3] = c.threshold[4] =
       s.get_number("threshold_pitch", c.threshold[2], 1e-4, 90.0);
   c.raise_time = s.get_number("raise_time", c.raise_time, 0.0, 3600.0);
@@ -70,7 +78,10 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   c.clear_time = s.get_number("clear_time", c.clear_time, 0.0, 3600.0);
   c.filter_time = s.get_number("filter_time", c.filter_time, 0.0, 600.0);
   c.settle_time = s.get_number("settle_time", c.settle_time, 0.0, 3600.0);
-  c.witness_torque_min = s.get_number("witness_torque_min", c.witness_torque_min, 1.0, 1e9);
+  const double rated_torque =
+      turbine.rated_power / (turbine.generator_efficiency * turbine.rated_generator_speed);
+  c.witness_torque_min = s.get_number(
+      "witness_torque_min", s.get_number("witness_torque_share", 0.1, 0.0, 1.0) * rated_torque, 1.0, 1e9);
   c.max_tracking_error = s.get_number("max_tracking_error", c.max_tracking_error, 0.0, 90.0);
   c.stuck_time = s.get_number("stuck_time", c.stuck_time, 0.0, 60.0);
   c.stuck_samples = static_cast<int>(s.get_number("stuck_samples", c.stuck_samples, 0.0, 100000.0));

@@ -84,7 +84,10 @@ struct BiasConfig {
 
 /// Loads the `sensor_bias` keys; gain files relative to the configuration file. Unknown keys and out-of-range
 /// values are ConfigErrors naming file and key.
-BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gain_dir);
+/// `turbine` sets the defaults that are the turbine's own: the speed thresholds (threshold_speed_share of its
+/// rated speeds) and witness_torque_min (witness_torque_share of its rated generator torque).
+BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gain_dir,
+                            const TurbineParams& turbine = TurbineParams{});
 
 /// Observer mode: a gain file of `rw` states (random-walk biases) or of the observer's full size (bias rates
 /// appended). A random-walk file is padded: rate states with identity dynamics, no gain and no output, so

@@ -751,6 +751,28 @@ TEST(BiasEstimator, BadSamplesAreCountedAndNeverFed) {
   EXPECT_TRUE(std::isfinite(est.output().bias[0]));
 }
 
+TEST(BiasEstimator, SpeedThresholdsAndTheWitnessLevelAreTheTurbinesOwn) {
+  // GIVEN the benchmark turbine and a 2 MW turbine (rated generator speed 188 rad/s, gear ratio 80)
+  TurbineParams small;
+  small.rated_power = 2.0e6;
+  small.rated_generator_speed = 188.0;
+  small.gear_ratio = 80.0;
+  const YamlSection none(YAML::Load("{}"), "x.yaml");
+  const BiasConfig big = load_bias_config(none, kDeploy + "/sensor_bias", TurbineParams{});
+  const BiasConfig two = load_bias_config(none, kDeploy + "/sensor_bias", small);
+  // THEN the speed thresholds are 1 % of each turbine's rated speeds and the witness level 10 % of its rated
+  // torque, unless given in absolute units
+  EXPECT_NEAR(big.threshold[1], 1.62, 1e-9);
+  EXPECT_NEAR(big.threshold[0], 1.62 / 95.0, 1e-9);
+  EXPECT_NEAR(two.threshold[1], 1.88, 1e-9);
+  EXPECT_NEAR(two.threshold[0], 1.88 / 80.0, 1e-9);
+  EXPECT_NEAR(two.witness_torque_min, 0.1 * 2.0e6 / (0.98 * 188.0), 1e-6);
+  EXPECT_NEAR(load_bias_config(YamlSection(YAML::Load("threshold_rotor_speed: 0.03"), "x.yaml"),
+                               kDeploy + "/sensor_bias", small)
+                  .threshold[0],
+              0.03, 1e-12);
+}
+
 TEST(BiasEstimator, ConfigRejectsUnknownKeysBadRangesAndWrongGains) {
   EXPECT_THROW(load_bias_config(YamlSection(YAML::Load("treshold_pitch: 1"), "x.yaml"), kDeploy),
                ConfigError);
