@@ -1,9 +1,10 @@
-// Every diagnostic service on recordings that carry only some of its inputs: it says at start what it has and
-// lacks, does without what is absent (absent is not invalid: no rejected samples), and a recording without
-// any input it needs exits 2 naming them.
+// Every diagnostic service on data that carries only some of its inputs: it says at start (a recording) or
+// after a turbine's first samples (DDS) what it has and lacks, does without what is absent (absent is not
+// invalid: no rejected samples), and a recording without any input it needs exits 2 naming them.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -174,6 +175,40 @@ TEST(ReplayWithoutPitch, SensorBiasDiagnosesTheSpeedsAndRejectsNothing) {
   EXPECT_EQ(events[0]["fault"], "sensor_bias") << events[0].dump();
   EXPECT_GT(events[0]["t"].get<double>(), 200.0);
   EXPECT_LT(events[0]["t"].get<double>(), 206.0);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(InputsOnDds, AServiceSaysOnceWhatATurbinesFramesLack) {
+  // GIVEN windfdi-sensor-bias on a private domain
+  const int domain = private_domain(7);
+  const auto env = dds_env(domain);
+  ChildProcess service({bin("windfdi-sensor-bias")}, env, "sensor_bias_dds");
+  // WHEN a turbine's frames carry the rotor speed only, for 8 s (800 samples)
+  ChildProcess pub({bin("windfdi-test-peer"), "publish", "--ids", "WT07", "--blocks", "80", "--block", "10",
+                    "--rate", "10", "--readers", "1"},
+                   env, "publish");
+  ASSERT_EQ(pub.wait(std::chrono::seconds(60)), 0) << pub.stderr_text() << service.stderr_text();
+  const auto said = [&] {
+    return service.stderr_text().find("nothing will be diagnosed") != std::string::npos;
+  };
+  EXPECT_TRUE(wait_until(said, std::chrono::seconds(10))) << service.stderr_text();
+  service.stop(SIGTERM);
+  const std::string log = service.stderr_text();
+  // THEN after the first 500 samples it says what the frames carry and, once, each use they lack, and that
+  // it can diagnose nothing on that turbine (it keeps running: other turbines may carry more)
+  EXPECT_NE(log.find("turbine WT07 carries rotor_speed"), std::string::npos) << log;
+  EXPECT_NE(log.find("turbine WT07 lacks generator_speed, gen_torque (the drive-train observer"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("turbine WT07 lacks pitch_2, pitch_ref_2"), std::string::npos) << log;
+  std::size_t count = 0;
+  for (auto at = log.find("lacks pitch_2,"); at != std::string::npos; at = log.find("lacks pitch_2,", at + 1))
+    ++count;
+  EXPECT_EQ(count, 1u) << log;
+  remove_stale_shm(domain);
 }
 
 }  // namespace
