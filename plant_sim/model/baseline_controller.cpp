@@ -15,7 +15,16 @@ BaselineController::BaselineController(const TurbineParams& turbine, const Contr
       ctl_(params),
       lidar_distance_(lidar_distance),
       fallback_wind_(fallback_wind),
-      dt_(dt) {}
+      dt_(dt) {
+  // The pitch gains were tuned on the benchmark turbine. The speed loop's dynamics are kept on another
+  // turbine by scaling them with J omega / P: the lumped inertia it accelerates, over the torque a degree of
+  // pitch moves at rated speed (which scales with P / omega). 1 on the benchmark turbine.
+  const TurbineParams bench;
+  const auto loop = [](const TurbineParams& t) {
+    return t.lumped_inertia() * t.rated_generator_speed / t.rated_power;
+  };
+  pitch_gain_scale_ = loop(p_) / loop(bench);
+}
 
 void BaselineController::start_at(double pitch, double generator_speed) {
   pitch_ref_ = {pitch, pitch, pitch};
@@ -65,7 +74,7 @@ ControllerOutput BaselineController::step(double t, const ControlInput& in, cons
   // Region 3: gain-scheduled PI on generator speed; gains scale with the (iced) inertia when adapted.
   const double inertia_scale = in.inertia > 0.0 ? in.inertia / p_.lumped_inertia() : 1.0;
   const double beta_c = std::max(0.0, pitch_integral_);
-  const double gs = inertia_scale / (1.0 + beta_c / ctl_.gain_schedule_pitch);
+  const double gs = pitch_gain_scale_ * inertia_scale / (1.0 + beta_c / ctl_.gain_schedule_pitch);
   const double e = speed_filtered_ - omega_ref;
   pitch_integral_ = std::clamp(pitch_integral_ + ctl_.pitch_ki * gs * e * dt_, 0.0, p_.pitch_max);
   const double collective = std::clamp(pitch_integral_ + ctl_.pitch_kp * gs * e, 0.0, p_.pitch_max);

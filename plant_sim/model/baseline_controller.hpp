@@ -71,6 +71,7 @@ class BaselineController {
   AeroModel aero_;
   ControllerParams ctl_;
   double lidar_distance_, fallback_wind_, dt_;
+  double pitch_gain_scale_ = 1.0;  // the turbine's J omega / P over the benchmark's
   double speed_filtered_ = 0, pitch_integral_ = 0, ipc_d_ = 0, ipc_q_ = 0, stop_torque_ = -1;
   std::array<double, 3> pitch_ref_{};
   double lidar_upper_ = kNaN, lidar_lower_ = kNaN;   // the last LIDAR measurement

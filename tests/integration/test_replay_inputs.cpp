@@ -1,6 +1,7 @@
 // Every diagnostic service on data that carries only some of its inputs: it says at start (a recording) or
 // after a turbine's first samples (DDS) what it has and lacks, does without what is absent (absent is not
-// invalid: no rejected samples), and a recording without any input it needs exits 2 naming them.
+// invalid: no rejected samples), and a recording without any input it needs exits 2 naming them. And a
+// second turbine, described by its own turbine file only, judged by its own values.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -209,6 +210,40 @@ TEST(InputsOnDds, AServiceSaysOnceWhatATurbinesFramesLack) {
     ++count;
   EXPECT_EQ(count, 1u) << log;
   remove_stale_shm(domain);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(SecondTurbine, IceOnTheExample2MWTurbineIsJudgedByItsOwnInertia) {
+  // GIVEN a plant recording of the example 2 MW turbine (deploy/scenarios/example_2MW_ice.yaml: 1000 kg of
+  // ice over 400-700 s, +8.2 % inertia, with no Cp change; shed at 1200 s) and an ice_detect configuration
+  // that is its turbine file only
+  const std::string dir = temp_dir("ice_2mw");
+  ChildProcess plant({bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/example_2MW_ice.yaml",
+                      "--offline", "--record", dir + "/frames.csv"},
+                     {}, "plant");
+  ASSERT_EQ(plant.wait(std::chrono::seconds(60)), 0) << plant.stderr_text();
+  std::ofstream(dir + "/ice.yaml") << "turbine_file: " << kDeploy << "/turbine/example_2MW.yaml\n";
+  ChildProcess ice({bin("windfdi-ice-detect"), "--config", dir + "/ice.yaml", "--replay", dir + "/frames.csv",
+                    "--estimates", dir + "/est.csv", "--events", dir + "/events.jsonl"},
+                   {}, "ice_detect");
+  ASSERT_EQ(ice.wait(std::chrono::seconds(60)), 0) << ice.stderr_text();
+  const auto events = json_lines(read_file(dir + "/events.jsonl"));
+  // THEN nothing is raised before the ice, the warning comes during the accretion (its level is 4.65 % of
+  // this rotor's clean inertia, 570 kg, where the 4.8 MW rotor's was 1700 kg) with the kilograms in its
+  // detail
+  ASSERT_FALSE(events.empty()) << ice.stderr_text();
+  for (const auto& e : events) EXPECT_GT(e["t"].get<double>(), 400.0) << e.dump();
+  EXPECT_EQ(events[0]["fault"], "ice_accretion");
+  EXPECT_EQ(events[0]["severity"], "warning");
+  EXPECT_LT(events[0]["t"].get<double>(), 760.0) << events[0].dump();
+  EXPECT_NE(events[0]["detail"].get<std::string>().find("kg of ice"), std::string::npos);
+  std::printf("[ measured ] 2 MW ice warning %.0f s after the onset: %s\n",
+              events[0]["t"].get<double>() - 400.0, events[0]["detail"].get<std::string>().c_str());
+  // AND the clean inertia it judges by is this rotor's (J_r / N^2 + J_g = 1496 kg m^2)
+  EXPECT_NE(events[0]["detail"].get<std::string>().find("vs clean 1496"), std::string::npos);
 }
 
 }  // namespace
