@@ -149,7 +149,9 @@ TEST(BladeLoadReplay, HealthyFarmHourRaisesNothing) {
 }
 
 TEST(BladeLoadReplay, MalformedRecordingExitsWithCode2NamingFileAndLine) {
-  const auto r = replay_malformed("windfdi-blade-load", "t,azimuth,rotor_speed\n0,0,1.2\n0.01,abc,1.2\n");
+  const auto r = replay_malformed("windfdi-blade-load",
+                                  "t,azimuth,rotor_speed,blade_moment_1,blade_moment_2,blade_moment_3\n0,0,1."
+                                  "2,1,1,1\n0.01,abc,1.2,1,1,1\n");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.stderr_text.find(r.file + ":3"), std::string::npos) << r.stderr_text;
 }

@@ -85,8 +85,8 @@ INSTANTIATE_TEST_SUITE_P(
     });
 
 TEST(SensorBiasReplayInput, MalformedRecordingExitsWithCode2NamingFileAndLine) {
-  const auto r =
-      replay_malformed("windfdi-sensor-bias", "t,rotor_speed,generator_speed\n0,1.6,152\n0.01,abc,152\n");
+  const auto r = replay_malformed(
+      "windfdi-sensor-bias", "t,rotor_speed,generator_speed,gen_torque\n0,1.6,152,3e4\n0.01,abc,152,3e4\n");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.stderr_text.find(r.file + ":3"), std::string::npos) << r.stderr_text;
 }
