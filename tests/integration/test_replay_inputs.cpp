@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
@@ -16,6 +17,7 @@
 #include "test_util.hpp"
 
 using namespace windfdi::test;
+using nlohmann::json;
 
 namespace {
 
@@ -244,6 +246,16 @@ TEST(SecondTurbine, IceOnTheExample2MWTurbineIsJudgedByItsOwnInertia) {
               events[0]["t"].get<double>() - 400.0, events[0]["detail"].get<std::string>().c_str());
   // AND the clean inertia it judges by is this rotor's (J_r / N^2 + J_g = 1496 kg m^2)
   EXPECT_NE(events[0]["detail"].get<std::string>().find("vs clean 1496"), std::string::npos);
+  // AND the shedding at 1200 s, which gives back no Cp, is seen by the inertia alone within 2 minutes (the
+  // reported estimate follows the drop down, which no longer ends its confirmation)
+  const json* shed = nullptr;
+  for (const auto& e : events)
+    if (e["fault"] == "ice_shedding" && e["state"] == "raised" && !shed) shed = &e;
+  ASSERT_NE(shed, nullptr) << read_file(dir + "/events.jsonl");
+  EXPECT_GT((*shed)["t"].get<double>(), 1200.0);
+  EXPECT_LT((*shed)["t"].get<double>(), 1320.0) << shed->dump();
+  std::printf("[ measured ] 2 MW shedding (inertia alone) raised %.0f s after it\n",
+              (*shed)["t"].get<double>() - 1200.0);
 }
 
 }  // namespace

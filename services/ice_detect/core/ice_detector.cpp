@@ -228,7 +228,14 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   }
   const double fast =
       fast_recent_.empty() ? 0.0 : median(std::vector<double>(fast_recent_.begin(), fast_recent_.end()));
-  const double drop = out_.inertia - fast;
+  // The drop is measured from the reported estimate as it was when the drop began, for the reported estimate
+  // follows a real shedding down within its window and would end the drop's confirmation (a rotor whose ice
+  // changes no Cp, seen by the inertia alone, lost its shedding 2 s short of it). But never from above what
+  // the fast estimate itself said before: a reported estimate held high through a calm spell and then
+  // refreshed is no drop (it raised a false shedding on an iced rotor).
+  const double reference =
+      shed_since_ >= 0.0 ? std::max(out_.inertia, std::min(shed_reference_, fast_before_)) : out_.inertia;
+  const double drop = reference - fast;
   // Only ice that was reported can fall off: without it a drop is estimation noise.
   const bool iced = out_.ice_mass >= ice_mass_at(cfg_.shed_min_rise) && raised_level_ > 0;
   // After a shedding the slow estimate needs a window and a median to come down: until then its lag is no
@@ -236,7 +243,17 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   const bool settled = shed_last_ < 0.0 || t - shed_last_ >= cfg_.estimator.window + cfg_.median_estimates;
   const bool dropping = fast > 0.0 && drop >= cfg_.shed_fraction * j0_ && iced && settled;
   if (!dropping) shed_since_ = -1.0;
-  if (dropping && shed_since_ < 0.0) shed_since_ = t;
+  if (dropping && shed_since_ < 0.0) {
+    shed_since_ = t;
+    shed_reference_ = out_.inertia;
+    // The fast estimate's level before the drop: its median between 90 and 30 s ago (none: no hold).
+    std::vector<double> before;
+    for (const auto& [when, value] : fast_history_)
+      if (t - when >= 30.0) before.push_back(value);
+    fast_before_ = before.size() >= 20 ? median(before) : 0.0;
+  }
+  if (fast > 0.0) fast_history_.emplace_back(t, fast);
+  while (!fast_history_.empty() && t - fast_history_.front().first > 90.0) fast_history_.pop_front();
   // The aerodynamic signature of the same event: ice that falls off gives back the Cp it took, a step up of
   // the power model's calibration (the estimator restarts on it, so the inertia drop itself is confirmed
   // only a window later).

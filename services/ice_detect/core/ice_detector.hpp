@@ -98,7 +98,9 @@ class IceDetector {
   InertiaEstimator fast_;       // short window: sees a shedding step within a minute
   std::deque<double> fast_recent_;
   double shed_since_ = -1.0;
-  double calibrated_at_ = -1.0;  // time the power model was first calibrated
+  double shed_reference_ = 0.0, fast_before_ = 0.0;     // kg m^2: see the drop's reference
+  std::deque<std::pair<double, double>> fast_history_;  // (t, fast estimate) of the last 90 s
+  double calibrated_at_ = -1.0;                         // time the power model was first calibrated
   double next_second_ = -1.0;
   bool due_ = false;
   InertiaOutput out_;
