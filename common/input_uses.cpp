@@ -65,8 +65,8 @@ InputCheck check_inputs(const std::vector<InputUse>& uses,
 void report_inputs(const std::string& service, const std::vector<InputUse>& uses,
                    const std::function<bool(const std::string&)>& present, const std::string& source,
                    bool fatal) {
-  const InputCheck c = check_inputs(uses, present);
   if (uses.empty()) return;
+  const InputCheck c = check_inputs(uses, present);
   spdlog::info("{}: {} carries {}", service, source,
                c.present.empty() ? "none of its inputs" : joined(c.present));
   for (const auto& line : c.lines) spdlog::warn("{}: {} {}", service, source, line);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 namespace windfdi::sensor_bias {
@@ -294,10 +295,12 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
     out_.witness_speed = kNaN;
     // The generator speed from the electrical power, P = eta_g T_g omega_g, with the measured torque of the
     // same sample (independent sensors; no speed sensor enters it); unusable when missing or at low torque.
-    const bool witness_ok =
-        (s.valid_mask & kValidPower) && std::isfinite(s.power) && s.gen_torque >= cfg_.witness_torque_min &&
-        s.power > 0.0 && s.power / (turbine_.generator_efficiency * s.gen_torque) <= cfg_.generator_speed_max;
-    const double wg = witness_ok ? s.power / (turbine_.generator_efficiency * s.gen_torque) : kNaN;
+    const double power_speed = s.gen_torque >= cfg_.witness_torque_min
+                                   ? s.power / (turbine_.generator_efficiency * s.gen_torque)
+                                   : kNaN;
+    const bool witness_ok = (s.valid_mask & kValidPower) && std::isfinite(s.power) && s.power > 0.0 &&
+                            power_speed <= cfg_.generator_speed_max;
+    const double wg = witness_ok ? power_speed : kNaN;
     // The gain-or-offset test takes the torque from the converter's first-order response to its reference,
     // which carries no measurement noise: the witness's noise falls from 0.5 to 0.06-0.1 rad/s, and a
     // generator-speed fault's type is decided in 1-5 s instead of 5-20 s.
@@ -403,6 +406,7 @@ std::string BiasEstimator::detail(std::size_t k, bool raised) const {
   const GainOrOffsetTest& type = fault_type_[k];
   const char* cleared = raised ? "" : "cleared: ";
   const bool decided = raised_verdict_[k] != GainOrOffsetTest::Verdict::kUndecided;
+  const char* mode = cfg_.mode == Mode::kPaper ? "paper" : "observer";
   const char* how = decided ? "" : "; the likelier: the quantity varied little";
   char d[320];
   if (fault == "sensor_stuck")
@@ -416,17 +420,16 @@ std::string BiasEstimator::detail(std::size_t k, bool raised) const {
         cleared, type.gain(), type.evidence(), how, filtered_[k], kUnit[k], cfg_.threshold[k]);
   else if (cfg_.type_evidence <= 0.0)
     std::snprintf(d, sizeof d, "%sestimated bias %+.4g %s (threshold %.4g, %s mode)", cleared, filtered_[k],
-                  kUnit[k], cfg_.threshold[k], cfg_.mode == Mode::kPaper ? "paper" : "observer");
+                  kUnit[k], cfg_.threshold[k], mode);
   else if (!(std::fabs(type.gain() - 1.0) <= 1.0))
     std::snprintf(d, sizeof d, "%sestimated bias %+.4g %s (an offset: no gain fits; threshold %.4g, %s mode)",
-                  cleared, filtered_[k], kUnit[k], cfg_.threshold[k],
-                  cfg_.mode == Mode::kPaper ? "paper" : "observer");
+                  cleared, filtered_[k], kUnit[k], cfg_.threshold[k], mode);
   else
     std::snprintf(d, sizeof d,
                   "%sestimated bias %+.4g %s (an offset: evidence %.1f against a gain of %.4g%s; threshold "
                   "%.4g, %s mode)",
                   cleared, filtered_[k], kUnit[k], -type.evidence(), type.gain(), how, cfg_.threshold[k],
-                  cfg_.mode == Mode::kPaper ? "paper" : "observer");
+                  mode);
   return d;
 }
 
@@ -496,7 +499,7 @@ void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
     } else {
       // A gain shows only where the quantity is large (a pitch gain at fine pitch is no error at all): a
       // raised gain clears only where it would still be seen.
-      const bool gain_hidden = std::string(raised_class_[k]) == "sensor_gain" &&
+      const bool gain_hidden = std::strcmp(raised_class_[k], "sensor_gain") == 0 &&
                                std::fabs(raised_gain_[k] - 1.0) * std::fabs(out_.corrected[k]) < thr;
       if (stat < cfg_.clear_ratio * thr && !gain_hidden) {
         if (below_since_[k] < 0.0) below_since_[k] = t;
