@@ -90,7 +90,8 @@ void ResidualTests::follow_noise(const BladeChannels& x) {
 
 void ResidualTests::revolution(double t, double revolution_time, const BladeChannels& x, bool lidar_ok) {
   follow_noise(x);
-  const std::size_t keep = static_cast<std::size_t>(std::max(c_.drift_window, c_.abrupt_lookback + 1) + 1);
+  const std::size_t keep =
+      static_cast<std::size_t>(std::max(c_.drift_window, c_.abrupt_lookback + c_.abrupt_span) + 1);
   for (int b = 0; b < 3; ++b) {
     BladeState& B = blades_[b];
     B.history.push_back(x[b]);
@@ -289,9 +290,19 @@ void ResidualTests::blade_decision(int b, double t, bool outlier, bool outlier_c
     const auto& h = B.t_history;
     const int back = c_.abrupt_lookback;
     cls = "sensor_abrupt";
-    if (static_cast<int>(h.size()) > back && channel >= 0) {
-      const double past = h[h.size() - 1 - back][channel];
-      if (std::isfinite(past) && std::fabs(past) >= c_.abrupt_ratio * critical) cls = "sensor_drift";
+    // The mean over abrupt_span revolutions, signed along the excursion: one revolution's t decided a third
+    // of the suite's drifts wrongly (a ramp is confirmed on an upward swing of the noise, when the
+    // revolutions before lie about half-way to the critical value, one revolution's noise either side of the
+    // ratio).
+    if (channel >= 0) {
+      const double sign = stat >= 0 ? 1.0 : -1.0;
+      double sum = 0.0;
+      int m = 0;
+      for (int i = back; i < back + c_.abrupt_span && i < static_cast<int>(h.size()); ++i) {
+        const double past = h[h.size() - 1 - i][channel];
+        if (std::isfinite(past)) sum += sign * past, ++m;
+      }
+      if (m > 0 && sum / m >= c_.abrupt_ratio * critical) cls = "sensor_drift";
     }
   }
   std::vector<Transition> tr;

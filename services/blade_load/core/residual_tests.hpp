@@ -40,9 +40,11 @@ struct DetectionConfig {
   double witness_significance = 1e-2;   ///< two-sided level of that agreement
   bool mean_test = true;  ///< cross-blade mean-load test (the only one that sees an offset or drift)
   // Class of a confirmed outlier: abrupt or drift.
-  double abrupt_ratio = 0.5;  ///< abrupt if two revolutions before detection |t| was below this share of
-                              ///< the critical value (the residual stepped), else drift (it ramped)
-  int abrupt_lookback = 2;    ///< revolutions back for that comparison
+  double abrupt_ratio =
+      0.25;  ///< abrupt if before detection the mean t (signed along the excursion) was below
+             ///< this share of the critical value (the residual stepped), else drift (it ramped)
+  int abrupt_lookback = 2;  ///< revolutions back where that mean starts (a step is confirmed within ~1.1)
+  int abrupt_span = 4;      ///< revolutions in that mean (a step leaves it at 0 +- 0.5 in t units)
 };
 
 /// The tests of the three blades of one turbine, with the healthy statistics they compare with. Time and the
