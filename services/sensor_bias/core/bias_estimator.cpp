@@ -326,7 +326,10 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       const Eigen::Vector3d y3(s.rotor_speed, s.generator_speed, wg);
       // Not producing (a stop ramps the torque to zero, idling): the witness is gone and the common mode
       // unobservable (README); a safe stop drifted the rotor-speed bias past its threshold. Hold the biases.
-      const bool producing = s.gen_torque >= cfg_.witness_torque_min;
+      // Held too from the arbiter's safe stop on: feathering at the rate limit takes the aerodynamic torque
+      // model far from where it holds while the torque is still up (the example 2 MW turbine: a +3 to +5.6
+      // rad/s generator-speed "bias" 20 s into each of six stops of its multi-fault suite).
+      const bool producing = s.gen_torque >= cfg_.witness_torque_min && !context_.turbine_stopped;
       const Eigen::Matrix<double, 4, 1> held = dt_obs_.state().tail<4>();
       if (witness_ok) {
         dt_obs_.step(y3, u);

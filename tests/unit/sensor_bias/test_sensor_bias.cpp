@@ -615,6 +615,51 @@ TEST(ObserverMode, ASafeStopOfAHealthyTurbineRaisesNothing) {
   }
 }
 
+TEST(ObserverMode, TheExample2MWTurbineHoldsItsSpeedBiasesThroughTheArbitersSafeStop) {
+  // GIVEN the example 2 MW turbine (its own file and its own drive-train gains, the README's "Your own
+  // turbine"), healthy at 15 and 17 m/s, safe-stopped at 200 s by the arbiter (its configuration reaches the
+  // service as the context's turbine_stopped), where the multi-fault suite raised a +3 to +5.6 rad/s
+  // generator-speed "bias" 20 s into each of six stops
+  const TurbineParams p = load_turbine_params_file(kDeploy + "/turbine/example_2MW.yaml");
+  const YamlSection y = YamlSection::load_file(kDeploy + "/config/sensor_bias.yaml");
+  YAML::Node n = YAML::Clone(y.node());
+  n["drive_train_gains"] = "../sensor_bias/gains_drive_train_observer_2MW.yaml";
+  const BiasConfig c = load_bias_config(YamlSection(n, y.file()), kDeploy + "/sensor_bias", p);
+  for (double wind : {15.0, 17.0})
+    for (uint64_t seed : {3u, 4u}) {
+      plant::TurbineScenario t;
+      t.id = "WT01";
+      t.wind.mean = wind;
+      t.wind.turbulence_intensity = 0.14;
+      plant::TurbineSim sim(p, t, {}, seed, 100.0);
+      BiasEstimator est(c, load_gain_file(c.drive_train_gain_file), load_gain_file(c.pitch_gain_file), p);
+      std::vector<FaultEvent> events;
+      plant::ControlInput stop;
+      stop.mode = plant::OperatingMode::kSafeStop;
+      InputContext stopped;
+      stopped.turbine_stopped = true;
+      stopped.transitions = 1;
+      double peak_before = 0.0;
+      for (int k = 0; k < 400 * 100; ++k) {
+        const bool stopping = k >= 200 * 100;
+        if (k == 200 * 100) est.set_context(stopped, 200.0);
+        FrameSample s = sim.step(stopping ? stop : plant::ControlInput{});
+        s.aero_torque = s.aero_power = kNaN;
+        est.update(s, false, events);
+        if (!stopping && k > 60 * 100) peak_before = std::max(peak_before, std::fabs(est.output().bias[1]));
+      }
+      // THEN nothing is raised before or after the stop: the 2 MW gains hold the healthy turbine's generator
+      // speed bias below the 1.8 rad/s threshold (1 % of its rated speed), and the stop does not move it
+      const std::string first = events.empty() ? "" : events[0].component + " " + events[0].detail;
+      std::printf(
+          "[measured] 2 MW safe stop %g m/s seed %llu: peak generator-speed bias before %.2f rad/s, "
+          "%zu events\n",
+          wind, static_cast<unsigned long long>(seed), peak_before, events.size());
+      EXPECT_TRUE(events.empty()) << wind << " " << seed << ": " << first;
+      EXPECT_LT(peak_before, 0.5 * c.threshold[1]) << wind << " " << seed;
+    }
+}
+
 TEST(PaperModeOnPlant, HealthyTurbulentTurbineGivesPaperModeFalseBiasesTheObserverDoesNot) {
   // GIVEN a healthy turbine in turbulent wind (TI 0.15) for 10 minutes, the paper's estimator (eqs 5 + 8: the
   // measurement minus an open-loop simulation of the Table I model) and the default observer on the same data
