@@ -3,10 +3,12 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 
+#include "deploy_dir.hpp"
 #include "isolation.hpp"
 #include "yaml_config.hpp"
 
@@ -19,9 +21,9 @@ namespace {
 constexpr double kAfterEnd = 60.0;
 // s a stop may follow the end of the fault that warranted it (confirmation, the configuration's way back).
 constexpr double kStopAfterEnd = 300.0;
-// Ice that warrants a stop: ice_detect's critical level on the benchmark rotor (deploy/config/ice_detect.yaml
-// critical_rise: 4500 kg there), less the estimator's error (rms 1 % of the inertia, about 400 kg).
-constexpr double kStopIceMass = 4500.0, kStopIceShare = 0.9, kStopIceWindow = 120.0;
+// Ice that warrants a stop: ice_detect's critical level (stop_ice_mass), less the estimator's error (rms 1 %
+// of the inertia, about 400 kg on the benchmark rotor).
+constexpr double kStopIceRise = 0.1230, kStopIceShare = 0.9, kStopIceWindow = 120.0;
 
 double detected_at(const nlohmann::json& d) {
   return d["t_detected"].is_number() ? d["t_detected"].get<double>() : d["t"].get<double>();
@@ -65,8 +67,23 @@ std::pair<std::string, std::string> expected_detection(const std::string& target
   return {"", ""};  // anemometer, power and torque sensors, ...: no windfdi service covers them yet
 }
 
+double stop_ice_mass(const TurbineParams& turbine) {
+  return kStopIceRise * turbine.lumped_inertia() * turbine.gear_ratio * turbine.gear_ratio /
+         (turbine.ice_radius * turbine.ice_radius);
+}
+
 std::vector<InjectedFault> read_injected(const std::string& file) {
   const auto root = YamlSection::load_file(file);
+  // The scenario's turbine as the plant finds it: beside the scenario, else under deploy/ (the default).
+  namespace fs = std::filesystem;
+  std::string turbine_file = root.get<std::string>("turbine_file", "turbine/benchmark_4.8MW.yaml");
+  if (fs::path(turbine_file).is_relative()) {
+    const fs::path beside = fs::path(file).parent_path() / turbine_file;
+    turbine_file = fs::exists(beside) ? beside.string() : (fs::path(deploy_dir()) / turbine_file).string();
+  }
+  if (!fs::exists(turbine_file))
+    throw root.error("turbine_file", "turbine file '" + turbine_file + "' not found");
+  const double stop_ice = stop_ice_mass(load_turbine_params_file(turbine_file));
   std::vector<InjectedFault> out;
   for (const auto& f : root.sequence("faults")) {
     InjectedFault i;
@@ -82,6 +99,7 @@ std::vector<InjectedFault> read_injected(const std::string& file) {
     if (f.has("hold")) i.end = i.start + i.ramp_in + f.require_number("hold", 0.0, 1e5);
     if (i.end < 1e299) i.end += f.get_number("ramp_out", 0.0, 0.0, 1e5);
     std::tie(i.component, i.fault) = expected_detection(i.target, i.type);
+    i.stop_ice_mass = stop_ice;
     out.push_back(i);
   }
   return out;
@@ -217,8 +235,11 @@ std::vector<StopRecord> stops(const std::vector<InjectedFault>& injected,
                        s.t <= i.end + kStopAfterEnd;
       // Ice: at its stop level at any time in the last kStopIceWindow (the evidence a stop is decided on is
       // that old; a shedding seconds before the stop does not make it unwarranted).
-      for (double back = 0.0; back <= kStopIceWindow && !s.warranted; back += 1.0)
-        s.warranted |= injected_ice(injected, h.turbine_id, s.t - back) >= kStopIceShare * kStopIceMass;
+      double stop_ice = 0.0;
+      for (const auto& i : injected)
+        if (i.turbine == h.turbine_id) stop_ice = i.stop_ice_mass;
+      for (double back = 0.0; back <= kStopIceWindow && !s.warranted && stop_ice > 0.0; back += 1.0)
+        s.warranted |= injected_ice(injected, h.turbine_id, s.t - back) >= kStopIceShare * stop_ice;
       out.push_back(s);
     }
     was = stop;

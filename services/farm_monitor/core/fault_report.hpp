@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "farm_store.hpp"
+#include "turbine_params.hpp"
 
 namespace windfdi::farm {
 
@@ -16,7 +17,14 @@ struct InjectedFault {
   double value = 0.0;            ///< the scenario's value (an ice mass decides whether it warrants a stop)
   double ramp_in = 0.0;          ///< s (ice accretion: the mass grows over it)
   double fraction = 1.0;         ///< ice shedding: the share of the ice that falls off
+  double stop_ice_mass =
+      4500.0;  ///< kg of ice that warrants a stop on this scenario's turbine (stop_ice_mass())
 };
+
+/// The ice (kg) that warrants a stop on a turbine: ice_detect's shipped critical level, 12.3 % of the clean
+/// inertia (deploy/config/ice_detect.yaml critical_rise), with the ice at the turbine file's ice_radius. 4500
+/// kg on the benchmark rotor.
+double stop_ice_mass(const TurbineParams& turbine);
 
 /// The ice on a turbine's rotor at time t (kg) as the plant accounts it: accretions add their mass over
 /// their ramp, a shedding drops its fraction of what is there.

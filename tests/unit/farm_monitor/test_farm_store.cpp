@@ -4,7 +4,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
 
+#include "deploy_dir.hpp"
 #include "farm_state.hpp"
 #include "farm_store.hpp"
 #include "fault_report.hpp"
@@ -239,6 +242,36 @@ TEST(FaultReportStops, AStopIsWarrantedByALeakOrByIceAtItsStopLevelShortlyBefore
   EXPECT_FALSE(s[2].warranted);
   EXPECT_TRUE(s[3].warranted);
   EXPECT_FALSE(s[4].warranted);
+}
+
+TEST(FaultReportStops, TheIceThatWarrantsAStopIsTheTurbinesOwnCriticalLevel) {
+  using namespace windfdi::farm;
+  // GIVEN the benchmark turbine and the example 2 MW turbine (deploy/turbine/), and a 2 MW scenario with 1200
+  // kg of ice grown by 900 s
+  const std::string deploy = windfdi::deploy_dir();
+  const TurbineParams big = load_turbine_params_file(deploy + "/turbine/benchmark_4.8MW.yaml");
+  const TurbineParams two = load_turbine_params_file(deploy + "/turbine/example_2MW.yaml");
+  // THEN the stop level is ice_detect's critical rise (12.3 % of the clean inertia) in kg of ice at the
+  // file's ice radius: 4500 kg on the benchmark rotor, 12.3 % x (9e6 + 80^2 x 90) / 28^2 = 1503 kg on the 2
+  // MW one
+  EXPECT_NEAR(stop_ice_mass(big), 4500.0, 5.0);
+  EXPECT_NEAR(stop_ice_mass(two), 0.123 * (9.0e6 + 6400.0 * 90.0) / (28.0 * 28.0), 1.0);
+  const std::string dir = ::testing::TempDir() + "/stop_ice_" + std::to_string(getpid());
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/two.yaml")
+      << "duration: 2000\nturbine_file: " << deploy
+      << "/turbine/example_2MW.yaml\nturbines:\n  - {id: WT01, wind: {mean: 9}}\n"
+      << "faults:\n  - {turbine: WT01, target: rotor, type: ice_accretion, value: "
+         "1500, ramp_in: 300, start: 600}\n";
+  const auto injected = read_injected(dir + "/two.yaml");
+  ASSERT_EQ(injected.size(), 1u);
+  EXPECT_NEAR(injected[0].stop_ice_mass, stop_ice_mass(two), 1e-9);
+  // AND a stop with all 1500 kg on the 2 MW rotor is warranted (it would not be against 4500 kg)
+  const auto s =
+      stops(injected, {HistoryRow{1000.0, "config", "WT01", {{"t", 1000.0}, {"mode", "safe_stop"}}}});
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_TRUE(s[0].warranted);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(FaultReportTable, APowerPathFaultWhileTheTurbineIsStoppedIsMarkedStopped) {
