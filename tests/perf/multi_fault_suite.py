@@ -6,6 +6,7 @@ reports per turbine-hour and by safe stops no injected fault warrants.
   multi_fault_suite.py generate --seed S --count N --out DIR      write N scenarios (DIR/scenario_SEED_K.yaml)
   multi_fault_suite.py run DIR [--mode fast|dds] [--rate R] ...   run every scenario of DIR, print the tables
   multi_fault_suite.py run FILE.yaml ...                          one scenario (benchmark.yaml works too)
+  multi_fault_suite.py run DIR --set SERVICE.KEY=VALUE ...         fast mode with configuration keys replaced
 
 Modes: `fast` runs the plant, the four services' cores and the arbiter in one process (tests/perf/system_replay
 --scenario: closed loop like the DDS system, exact inter-service timing, minutes for 30 scenarios); `dds` runs the
@@ -33,6 +34,32 @@ BIN = os.path.join(BUILD, "bin")
 # rated rotor speed, gear ratio. Only used to place stuck values away from the operating point.
 RADIUS, LAMBDA_OPT, RATED_SPEED, GEAR = 57.5, 8.1, 1.71, 95.0
 MEAN_FLAP_MOMENT = 5.4e6  # N m: 900 N m/s is the documented 1 %/min drift
+BENCHMARK_ICE_PER_SHARE = (55.0e6 + 95.0**2 * 390.0) / 40.0**2  # kg of ice per unit rise of the rotor's inertia
+
+
+class Machine:
+    """The turbine the faults are drawn for: the benchmark's by default; with --turbine-file another one, whose
+    magnitudes are the benchmark's as shares (speed biases of the rated speeds, ice of the clean inertia, blade
+    drifts of the mean flap moment, taken to scale with the radius cubed)."""
+
+    def __init__(self, turbine_file=None):
+        self.file, self.radius, self.rated_speed, self.gear = None, RADIUS, RATED_SPEED, GEAR
+        self.speed_scale = self.generator_scale = self.ice_scale = self.flap_scale = 1.0
+        if not turbine_file:
+            return
+        import yaml
+        with open(turbine_file) as f:
+            t = yaml.safe_load(f) or {}
+        self.file = os.path.abspath(turbine_file)
+        self.radius = float(t.get("rotor_radius", RADIUS))
+        self.gear = float(t.get("gear_ratio", GEAR))
+        rated_generator = float(t.get("rated_generator_speed", 162.0))
+        self.rated_speed = rated_generator / self.gear
+        self.speed_scale = self.rated_speed / RATED_SPEED
+        self.generator_scale = rated_generator / (RATED_SPEED * GEAR)
+        inertia = float(t.get("rotor_inertia", 55.0e6)) + self.gear**2 * float(t.get("generator_inertia", 390.0))
+        self.ice_scale = inertia / float(t.get("ice_radius", 40.0))**2 / BENCHMARK_ICE_PER_SHARE
+        self.flap_scale = (self.radius / RADIUS)**3
 
 # Each class's documented delay (s; services' READMEs), for "within its class's delay". The documented delays
 # were measured on faults at full size from their onset; a fault ramped in (ramp_in: actuator faults, ice) is
@@ -44,31 +71,31 @@ DELAY_TARGET = {
 }
 
 
-def nominal_rotor_speed(wind):
-    return min(RATED_SPEED, LAMBDA_OPT * wind / RADIUS)
+def nominal_rotor_speed(wind, m):
+    return min(m.rated_speed, LAMBDA_OPT * wind / m.radius)
 
 
-def fault_catalogue(rng, turbine, wind, start):
+def fault_catalogue(rng, turbine, wind, start, m):
     """Every covered class and every benchmark fault type, with magnitudes across each class's documented
     detectable range; (entry, kind) where kind orders the timeline ('stop' last, 'ice' late)."""
     blade = rng.randint(1, 3)
-    speed = nominal_rotor_speed(wind)
+    speed = nominal_rotor_speed(wind, m)
     sign = rng.choice([-1, 1])
     cands = [
         ("sensor", {"target": f"blade_moment_{blade}", "type": "gain", "gain": round(1 + sign * rng.uniform(0.1, 0.3), 3)}),
         # Drift: blade_load's documented range is about 1 %/min (a 3 %/min ramp reaches the abrupt test first).
         ("sensor", {"target": f"blade_moment_{blade}", "type": "drift",
-                    "rate": round(sign * MEAN_FLAP_MOMENT * rng.uniform(0.005, 0.015) / 60.0, 1)}),
+                    "rate": round(sign * MEAN_FLAP_MOMENT * m.flap_scale * rng.uniform(0.005, 0.015) / 60.0, 1)}),
         ("sensor", {"target": f"blade_moment_{blade}", "type": "intermittent", "gain": 1.3, "period": 20, "duty": 0.3}),
         ("sensor", {"target": f"blade_moment_{blade}", "type": "invalid"}),
-        ("sensor", {"target": "rotor_speed", "type": "bias", "value": round(sign * rng.uniform(0.034, 0.1), 4)}),
+        ("sensor", {"target": "rotor_speed", "type": "bias", "value": round(sign * m.speed_scale * rng.uniform(0.034, 0.1), 4)}),
         ("sensor", {"target": "rotor_speed", "type": "gain", "gain": round(1 + sign * rng.uniform(0.05, 0.15), 3)}),
         ("sensor", {"target": "rotor_speed", "type": "stuck",
                     "value": round(speed * (1 + sign * rng.uniform(0.1, 0.2)), 3)}),
-        ("sensor", {"target": "generator_speed", "type": "bias", "value": round(sign * rng.uniform(3.24, 8.0), 2)}),
+        ("sensor", {"target": "generator_speed", "type": "bias", "value": round(sign * m.generator_scale * rng.uniform(3.24, 8.0), 2)}),
         ("sensor", {"target": "generator_speed", "type": "gain", "gain": round(1 + sign * rng.uniform(0.05, 0.15), 3)}),
         ("sensor", {"target": "generator_speed", "type": "stuck",
-                    "value": round(GEAR * speed * (1 + sign * rng.uniform(0.1, 0.2)), 1)}),
+                    "value": round(m.gear * speed * (1 + sign * rng.uniform(0.1, 0.2)), 1)}),
         ("sensor", {"target": f"pitch_{blade}", "type": "bias", "value": round(sign * rng.uniform(1.0, 3.0), 2)}),
         ("sensor", {"target": f"pitch_{blade}", "type": "stuck", "value": round(rng.uniform(3.0, 15.0), 1)}),
         ("benchmark", {"target": "converter", "type": "torque_offset", "value": 100}),
@@ -88,7 +115,7 @@ def fault_catalogue(rng, turbine, wind, start):
                       "ramp_in": rng.choice([0, 30])}),
         ]
     if 8.0 <= wind <= 20.0:
-        cands += [("ice", {"target": "rotor", "type": "ice_accretion", "value": rng.choice([2500, 3000, 4000]),
+        cands += [("ice", {"target": "rotor", "type": "ice_accretion", "value": round(m.ice_scale * rng.choice([2500, 3000, 4000])),
                            "ramp_in": rng.choice([300, 600])})]
     return cands
 
@@ -105,7 +132,8 @@ def subsystem(target):
     return target
 
 
-def generate(seed, index, turbine_range=(1, 4), fault_range=(3, 8)):
+def generate(seed, index, turbine_range=(1, 4), fault_range=(3, 8), machine=None):
+    m = machine or Machine()
     rng = random.Random(seed * 1000 + index)
     n_turbines = rng.randint(*turbine_range)
     turbines, faults = [], []
@@ -119,7 +147,7 @@ def generate(seed, index, turbine_range=(1, 4), fault_range=(3, 8)):
         n = rng.randint(*fault_range)
         # A fresh draw per fault: another blade, another magnitude (the same fault twice on one target would be
         # one long fault, not two).
-        chosen = [rng.choice(fault_catalogue(rng, tid, wind, 0)) for _ in range(n)]
+        chosen = [rng.choice(fault_catalogue(rng, tid, wind, 0, m)) for _ in range(n)]
         # Sequence: at most one stop-class fault, last (a stop ends what can be observed); ice from 900 s.
         stops = [c for c in chosen if c[0] == "stop"][:1]
         rest = [c for c in chosen if c[0] != "stop"]
@@ -153,14 +181,20 @@ def generate(seed, index, turbine_range=(1, 4), fault_range=(3, 8)):
             t = t + (length * rng.uniform(0.3, 0.7) if overlap else length + rng.uniform(200, 400))
         faults += timeline
         duration = max(duration, int(t + 200))
-    return {"duration": duration, "seed": seed * 1000 + index, "turbines": turbines, "faults": faults}
+    out = {"duration": duration, "seed": seed * 1000 + index, "turbines": turbines, "faults": faults}
+    if m.file:
+        out["turbine_file"] = m.file
+    return out
 
 
 def dump_yaml(s):
     def flow(d):
         return "{" + ", ".join(f"{k}: {v}" for k, v in d.items()) + "}"
     lines = ["# Generated by tests/perf/multi_fault_suite.py (seeded); judged, not tuned on, unless listed in README.",
-             f"duration: {s['duration']}", f"seed: {s['seed']}", "turbines:"]
+             f"duration: {s['duration']}", f"seed: {s['seed']}"]
+    if "turbine_file" in s:
+        lines.append(f"turbine_file: {s['turbine_file']}")
+    lines.append("turbines:")
     for t in s["turbines"]:
         lines.append(f"  - {{id: {t['id']}, wind: {flow(t['wind'])}}}")
     lines.append("faults:")
@@ -169,10 +203,10 @@ def dump_yaml(s):
     return "\n".join(lines) + "\n"
 
 
-def run_fast(scenario, work):
+def run_fast(scenario, work, settings=()):
     history = os.path.join(work, "history.jsonl")
-    subprocess.run([find_tool("system_replay"), "--scenario", scenario, "--history", history], check=True,
-                   capture_output=True, text=True)
+    subprocess.run([find_tool("system_replay"), "--scenario", scenario, "--history", history]
+                   + [x for kv in settings for x in ("--set", kv)], check=True, capture_output=True, text=True)
     return history
 
 
@@ -290,12 +324,17 @@ def main():
     g.add_argument("--out", required=True)
     g.add_argument("--turbines", default="1-4", help="range of turbines per scenario (1-4)")
     g.add_argument("--faults", default="3-8", help="range of faults per turbine (3-8)")
+    g.add_argument("--turbine-file", default="", help="draw for this turbine (default: the benchmark turbine); "
+                   "run them with every service's turbine_file --set to it")
     r = sub.add_parser("run")
     r.add_argument("scenarios", nargs="+", help="scenario files or folders of them")
     r.add_argument("--mode", choices=["fast", "dds"], default="fast")
     r.add_argument("--rate", type=float, default=20.0)
     r.add_argument("--work", default="")
     r.add_argument("--jobs", type=int, default=0, help="scenarios at once (default: cores in fast mode, 1 in dds)")
+    r.add_argument("--set", action="append", default=[], metavar="SERVICE.KEY=VALUE",
+                   help="fast mode: a configuration key replaced (system_replay --set), e.g. another turbine's "
+                        "turbine_file for every service (a path relative to deploy/config, or absolute)")
     r.add_argument("--require", nargs=3, type=float, metavar=("RIGHT_PCT", "UNEXPECTED_PER_10H", "BAD_STOPS"),
                    help="exit 1 unless right-first >= RIGHT_PCT, unexpected <= per 10 turbine-hours, stops <=")
     a = ap.parse_args()
@@ -305,9 +344,11 @@ def main():
             path = os.path.join(a.out, f"scenario_{a.seed}_{k:02d}.yaml")
             with open(path, "w") as f:
                 rng_of = lambda text: tuple(int(x) for x in text.split("-"))
-                f.write(dump_yaml(generate(a.seed, k, rng_of(a.turbines), rng_of(a.faults))))
+                f.write(dump_yaml(generate(a.seed, k, rng_of(a.turbines), rng_of(a.faults), Machine(a.turbine_file))))
             print(path)
         return 0
+    if a.set and a.mode != "fast":
+        ap.error("--set works in fast mode only (the DDS system reads deploy/config)")
     files = []
     for s in a.scenarios:
         files += sorted(glob.glob(os.path.join(s, "*.yaml"))) if os.path.isdir(s) else [s]
@@ -318,7 +359,7 @@ def main():
         shutil.rmtree(work, ignore_errors=True)
         os.makedirs(work)
         try:
-            history = run_fast(f, work) if a.mode == "fast" else run_dds(f, work, a.rate)
+            history = run_fast(f, work, a.set) if a.mode == "fast" else run_dds(f, work, a.rate)
             return report(f, history)
         except subprocess.CalledProcessError as e:
             print(f"multi_fault_suite: {os.path.basename(f)}: {e} {e.stderr or ''}", file=sys.stderr)

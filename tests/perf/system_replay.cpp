@@ -7,6 +7,7 @@
 // and hides every later fault. A fast way to tune and judge the services together; the DDS system is judged
 // by multi_fault_suite.py.
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -88,6 +89,21 @@ nlohmann::json config_json(const arbiter::Configuration& c, const std::string& i
           {"reasons", reasons}};
 }
 
+// The --set values for this configuration file (SERVICE = the file's name without .yaml); a setting without
+// "SERVICE.KEY=" is a ConfigError, as is a key the service does not know (its own check).
+YamlSection with_settings(YamlSection section, const std::vector<std::string>& settings) {
+  const std::string service = std::filesystem::path(section.file()).stem().string();
+  for (const auto& setting : settings) {
+    const auto dot = setting.find('.'), eq = setting.find('=');
+    if (dot == std::string::npos || eq == std::string::npos || eq < dot)
+      throw ConfigError("--set", 0, setting, "expected SERVICE.KEY=VALUE");
+    if (setting.substr(0, dot) != service) continue;
+    YAML::Node node = section.node();
+    node[setting.substr(dot + 1, eq - dot - 1)] = YAML::Load(setting.substr(eq + 1));
+  }
+  return section;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -98,17 +114,31 @@ int main(int argc, char** argv) {
       ->excludes(frames_option);
   app.add_option("--history", history_file, "write the history here (JSON Lines)")->required();
   app.add_option("--config-dir", config_dir, "service configurations (<service>.yaml)");
+  std::vector<std::string> settings;
+  app.add_option(
+      "--set", settings,
+      "SERVICE.KEY=VALUE: one key of a configuration replaced (repeatable; a path as in the file, "
+      "relative to --config-dir, or absolute), e.g. every service's turbine_file for another turbine");
   CLI11_PARSE(app, argc, argv);
   try {
+    for (const auto& setting : settings) {
+      const std::string service = setting.substr(0, setting.find('.'));
+      if (service != "blade_load" && service != "sensor_bias" && service != "pitch_diag" &&
+          service != "ice_detect" && service != "drive_train" && service != "arbiter")
+        throw ConfigError("--set", 0, setting,
+                          "no configuration '" + service +
+                              "' (blade_load, sensor_bias, pitch_diag, ice_detect, drive_train, arbiter)");
+    }
     std::vector<Service> services;
     for (auto make : {blade_load::blade_load_spec, sensor_bias::sensor_bias_spec, pitch_diag::pitch_diag_spec,
                       ice_detect::ice_detect_spec, drive_train::drive_train_spec}) {
       Service s{make(), {}, {}, {}};
-      s.spec.configure(YamlSection::load_file(config_dir + "/" + s.spec.name + ".yaml"));
+      s.spec.configure(
+          with_settings(YamlSection::load_file(config_dir + "/" + s.spec.name + ".yaml"), settings));
       services.push_back(std::move(s));
     }
-    const auto arbiter_config =
-        arbiter::load_arbiter_config(YamlSection::load_file(config_dir + "/arbiter.yaml"));
+    const auto arbiter_config = arbiter::load_arbiter_config(
+        with_settings(YamlSection::load_file(config_dir + "/arbiter.yaml"), settings));
     std::map<std::string, Turbine> turbines;
     std::ofstream out(history_file);
     if (!out) throw ConfigError(history_file, 0, "", "cannot write");
