@@ -35,6 +35,7 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
                         "shed_fraction",
                         "shed_min_rise",
                         "shed_hold",
+                        "shed_slow_window",
                         "min_generator_speed",
                         "min_gen_torque",
                         "max_pitch",
@@ -86,6 +87,7 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
   c.shed_fraction = s.get_number("shed_fraction", c.shed_fraction, 0.001, 0.5);
   c.shed_min_rise = s.get_number("shed_min_rise", c.shed_min_rise, 0.0, 2.0);
   c.shed_hold = s.get_number("shed_hold", c.shed_hold, 1.0, 3600.0);
+  c.shed_slow_window = s.get_number("shed_slow_window", c.shed_slow_window, 0.0, 3600.0);
   c.min_generator_speed = s.get_number("min_generator_speed", c.min_generator_speed, 0.0, 1000.0);
   c.min_gen_torque = s.get_number("min_gen_torque", c.min_gen_torque, 0.0, 1e6);
   c.max_pitch = s.get_number("max_pitch", c.max_pitch, 0.0, 95.0);
@@ -259,9 +261,39 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   // only a window later).
   const bool cp_recovered = cp_step && cfg_.shed_power_step > 0.0 && estimator_.last_step_from_settled() &&
                             estimator_.last_power_step() >= cfg_.shed_power_step && iced;
-  if (shed_raised_at_ < 0.0 && (cp_recovered || (dropping && t - shed_since_ >= cfg_.shed_confirm))) {
+  if (raised_level_ < 2)
+    fault_since_ = -1.0;
+  else if (fault_since_ < 0.0)
+    fault_since_ = t;
+  // The slow route: the reported estimate (a minute's median of two-minute windows: less noise, more lag)
+  // fell shed_fraction of J0 from its highest fresh value of the last shed_slow_window, a value with ice
+  // reported at severity fault (a false warning's estimate coming back down is no shedding: 3 in the 2 MW
+  // suite when any reported ice counted) for shed_slow_window already, and as long after a shedding (the
+  // estimate converging from above after a start, or still coming down after a shedding, is no new one: the
+  // benchmark's iced rotor raised one 4 s after its first report, +19 % for +8 %). Only fresh estimates count
+  // (a median held through a calm spell and refreshed is no drop).
+  if (fresh_ && cfg_.shed_slow_window > 0.0)
+    slow_history_.push_back({t, out_.inertia,
+                             raised_level_ >= 2 && t - fault_since_ >= cfg_.shed_slow_window &&
+                                 (shed_last_ < 0.0 || t - shed_last_ >= cfg_.shed_slow_window)});
+  while (!slow_history_.empty() && t - slow_history_.front().t > cfg_.shed_slow_window)
+    slow_history_.pop_front();
+  double slow_peak = 0.0;
+  for (const auto& p : slow_history_)
+    if (p.iced) slow_peak = std::max(slow_peak, p.inertia);
+  // It must hold for shed_confirm, as the fast route's drop must: the reported estimate of a rotor whose ice
+  // stays swung 5 % peak to trough within 300 s twice in 9 hours on the benchmark rotor (8.2 % of ice).
+  if (!(fresh_ && settled && slow_peak > 0.0 && slow_peak - out_.inertia >= cfg_.shed_fraction * j0_))
+    slow_since_ = -1.0;
+  else if (slow_since_ < 0.0)
+    slow_since_ = t;
+  const bool slow_drop = slow_since_ >= 0.0 && t - slow_since_ >= cfg_.shed_confirm;
+  if (shed_raised_at_ < 0.0 &&
+      (cp_recovered || (dropping && t - shed_since_ >= cfg_.shed_confirm) || slow_drop)) {
     shed_raised_at_ = shed_last_ = t;
-    FaultEvent e = rotor_event("ice_shedding", true, "warning", t, cp_recovered ? t : shed_since_);
+    slow_history_.clear();
+    const bool fast_route = !cp_recovered && dropping && t - shed_since_ >= cfg_.shed_confirm;
+    FaultEvent e = rotor_event("ice_shedding", true, "warning", t, fast_route ? shed_since_ : t);
     char detail[200];
     if (cp_recovered) {
       // Size from the Cp recovered, at the turbine's Cp loss per tonne of ice.
@@ -272,13 +304,22 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
                     "power coefficient recovered %.1f %% within a minute with %.0f kg of ice reported: about "
                     "%.0f kg shed",
                     100.0 * e.statistic, out_.ice_mass, e.size);
-    } else {
+    } else if (fast_route) {
       e.statistic = drop / j0_;
       e.threshold = cfg_.shed_fraction;
       e.size = drop * mass_per_inertia_;
       std::snprintf(detail, sizeof detail,
                     "inertia fell %.1f %% of J0 (fast %.0f vs slow %.0f kg m^2): about %.0f kg shed",
                     100.0 * drop / j0_, fast, out_.inertia, e.size);
+    } else {
+      const double fell = slow_peak - out_.inertia;
+      e.statistic = fell / j0_;
+      e.threshold = cfg_.shed_fraction;
+      e.size = fell * mass_per_inertia_;
+      std::snprintf(
+          detail, sizeof detail,
+          "reported inertia fell %.1f %% of J0 within %.0f s (%.0f from %.0f kg m^2): about %.0f kg shed",
+          100.0 * fell / j0_, cfg_.shed_slow_window, out_.inertia, slow_peak, e.size);
     }
     e.detail = detail;
     events.push_back(e);

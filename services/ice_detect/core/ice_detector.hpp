@@ -47,6 +47,10 @@ struct DetectorConfig {
   double shed_min_rise = 0.0137;  ///< inertia rise (500 kg on the benchmark rotor) that must be estimated,
                                   ///< with ice_accretion raised, to shed
   double shed_hold = 60.0;        ///< s an ice_shedding report stays raised
+  double shed_slow_window =
+      300.0;  ///< s: the reported estimate itself fell shed_fraction of J0 below its highest fresh value
+              ///< within this, from reported ice: ice_shedding (the rotor whose ice changes no Cp, whose fast
+              ///< estimate is too noisy to see it; later, but before the accretion clears). 0: off
   double min_generator_speed = 30.0;  ///< rad/s below which the estimator is not fed (standstill)
   double min_gen_torque = 3000.0;     ///< N m; below it the turbine is not producing (stopping): not fed
   double max_pitch = 30.0;            ///< deg; above it (feathering) the power model is not trusted: not fed
@@ -100,7 +104,14 @@ class IceDetector {
   double shed_since_ = -1.0;
   double shed_reference_ = 0.0, fast_before_ = 0.0;     // kg m^2: see the drop's reference
   std::deque<std::pair<double, double>> fast_history_;  // (t, fast estimate) of the last 90 s
-  double calibrated_at_ = -1.0;                         // time the power model was first calibrated
+  struct SlowPoint {
+    double t, inertia;
+    bool iced;  // ice was reported then at severity fault or above
+  };
+  std::deque<SlowPoint> slow_history_;  // fresh reported estimates of the last shed_slow_window
+  double fault_since_ = -1.0;           // time ice was first reported at severity fault (-1: it is not)
+  double slow_since_ = -1.0;            // start of the reported estimate's drop below its peak (-1: none)
+  double calibrated_at_ = -1.0;         // time the power model was first calibrated
   double next_second_ = -1.0;
   bool due_ = false;
   InertiaOutput out_;
