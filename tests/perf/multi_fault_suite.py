@@ -4,6 +4,7 @@ system, judged per fault class (right first, right after a re-classification, mi
 reports per turbine-hour and by safe stops no injected fault warrants.
 
   multi_fault_suite.py generate --seed S --count N --out DIR      write N scenarios (DIR/scenario_SEED_K.yaml)
+  multi_fault_suite.py generate --healthy ...                     healthy hours at 8, 12, 16, 20 m/s instead
   multi_fault_suite.py run DIR [--mode fast|dds] [--rate R] ...   run every scenario of DIR, print the tables
   multi_fault_suite.py run FILE.yaml ...                          one scenario (benchmark.yaml works too)
   multi_fault_suite.py run DIR --set SERVICE.KEY=VALUE ...         fast mode with configuration keys replaced
@@ -187,6 +188,18 @@ def generate(seed, index, turbine_range=(1, 4), fault_range=(3, 8), machine=None
     return out
 
 
+def healthy(seed, index, machine=None):
+    """An hour of a healthy turbine at each of 8, 12, 16 and 20 m/s (the issues' healthy-hours winds)."""
+    m = machine or Machine()
+    turbines = [{"id": f"WT{k + 1:02d}", "wind": {"mean": w, "turbulence_intensity": 0.12 if w < 14 else 0.1,
+                                                 "shear_exponent": 0.2, "shear_variation": 0.05}}
+                for k, w in enumerate([8.0, 12.0, 16.0, 20.0])]
+    out = {"duration": 3600, "seed": seed * 1000 + index, "turbines": turbines, "faults": []}
+    if m.file:
+        out["turbine_file"] = m.file
+    return out
+
+
 def dump_yaml(s):
     def flow(d):
         return "{" + ", ".join(f"{k}: {v}" for k, v in d.items()) + "}"
@@ -197,7 +210,7 @@ def dump_yaml(s):
     lines.append("turbines:")
     for t in s["turbines"]:
         lines.append(f"  - {{id: {t['id']}, wind: {flow(t['wind'])}}}")
-    lines.append("faults:")
+    lines.append("faults:" if s["faults"] else "faults: []")
     for f in s["faults"]:
         lines.append(f"  - {flow(f)}")
     return "\n".join(lines) + "\n"
@@ -324,6 +337,8 @@ def main():
     g.add_argument("--out", required=True)
     g.add_argument("--turbines", default="1-4", help="range of turbines per scenario (1-4)")
     g.add_argument("--faults", default="3-8", help="range of faults per turbine (3-8)")
+    g.add_argument("--healthy", action="store_true",
+                   help="no faults: each scenario an hour at 8, 12, 16 and 20 m/s (healthy hours, false alarms)")
     g.add_argument("--turbine-file", default="", help="draw for this turbine (default: the benchmark turbine); "
                    "run them with every service's turbine_file --set to it")
     r = sub.add_parser("run")
@@ -344,7 +359,9 @@ def main():
             path = os.path.join(a.out, f"scenario_{a.seed}_{k:02d}.yaml")
             with open(path, "w") as f:
                 rng_of = lambda text: tuple(int(x) for x in text.split("-"))
-                f.write(dump_yaml(generate(a.seed, k, rng_of(a.turbines), rng_of(a.faults), Machine(a.turbine_file))))
+                machine = Machine(a.turbine_file)
+                f.write(dump_yaml(healthy(a.seed, k, machine) if a.healthy else
+                                  generate(a.seed, k, rng_of(a.turbines), rng_of(a.faults), machine)))
             print(path)
         return 0
     if a.set and a.mode != "fast":

@@ -11,6 +11,21 @@ echo "== pitch_diag_plant"
 "$bin/pitch_diag_plant" 3600
 echo "== ice_detect_plant"
 "$bin/ice_detect_plant" 3600 3
+# The whole system's healthy hours (ten at each of 8, 12, 16 and 20 m/s) on both shipped turbines.
+healthy=$(mktemp -d)
+trap 'rm -rf "$healthy"' EXIT
+turbine2=$top/deploy/turbine/example_2MW.yaml
+suite=$top/tests/perf/multi_fault_suite.py
+echo "== healthy hours, benchmark 4.8 MW turbine"
+python3 "$suite" generate --healthy --seed 5 --count 10 --out "$healthy/4.8MW" >/dev/null
+python3 "$suite" run "$healthy/4.8MW" --mode fast --work "$healthy/w4.8MW" | tail -n 4
+echo "== healthy hours, example 2 MW turbine"
+python3 "$suite" generate --healthy --seed 5 --count 10 --turbine-file "$turbine2" --out "$healthy/2MW" >/dev/null
+python3 "$suite" run "$healthy/2MW" --mode fast --work "$healthy/w2MW" \
+  --set blade_load.turbine_file="$turbine2" --set drive_train.turbine_file="$turbine2" \
+  --set ice_detect.turbine_file="$turbine2" --set sensor_bias.turbine_file="$turbine2" \
+  --set sensor_bias.drive_train_gains="$top/deploy/sensor_bias/gains_drive_train_observer_2MW.yaml" \
+  --set blade_load.load_table_file="$top/deploy/turbine/example_2MW_load_table.csv" | tail -n 6
 echo "== drive_train_plant"
 "$bin/drive_train_plant" 10 5
 echo "== system_latency"
