@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 namespace windfdi {
 
@@ -68,6 +69,18 @@ TurbineParams load_turbine_params(const YamlSection& s) {
 
 TurbineParams load_turbine_params_file(const std::string& path) {
   return load_turbine_params(YamlSection::load_file(path));
+}
+
+std::string scenario_turbine_file(const YamlSection& scenario, const std::string& scenario_file,
+                                  const std::string& deploy_dir) {
+  namespace fs = std::filesystem;
+  std::string tf = scenario.get<std::string>("turbine_file", "turbine/benchmark_4.8MW.yaml");
+  if (fs::path(tf).is_relative()) {
+    const fs::path beside = fs::path(scenario_file).parent_path() / tf;
+    tf = fs::exists(beside) ? beside.string() : (fs::path(deploy_dir) / tf).string();
+  }
+  if (!fs::exists(tf)) throw scenario.error("turbine_file", "turbine file '" + tf + "' not found");
+  return tf;
 }
 
 double AeroModel::optimal_tip_speed_ratio() {

@@ -48,6 +48,11 @@ struct TurbineParams {
 /// Reads a turbine file; unknown keys and out-of-range values are ConfigErrors naming file and key.
 TurbineParams load_turbine_params(const YamlSection& section);
 TurbineParams load_turbine_params_file(const std::string& path);
+/// The turbine file a scenario names (`turbine_file` of `scenario`, read from `scenario_file`; default the
+/// benchmark turbine's): a relative path beside the scenario when it is there, else under `deploy_dir`. A
+/// file that does not exist is a ConfigError naming the key.
+std::string scenario_turbine_file(const YamlSection& scenario, const std::string& scenario_file,
+                                  const std::string& deploy_dir);
 
 /// Aerodynamics: the Heier/Slootweg analytic power coefficient
 ///   Cp = c1 (c2/li - c3 beta - c4) exp(-c5/li) + c6 lambda,  1/li = 1/(lambda + 0.08 beta) - 0.035/(beta^3 +

@@ -2,7 +2,6 @@
 #include "scenario.hpp"
 
 #include <algorithm>
-#include <filesystem>
 #include <set>
 
 namespace windfdi::plant {
@@ -116,15 +115,8 @@ Scenario load_scenario(const std::string& path, const std::string& deploy_dir) {
   sc.duration = root.require_number("duration", 0.01, 1e7);
   sc.seed = root.get<uint64_t>("seed", 1);
   sc.sample_rate = root.get_number("sample_rate", 100.0, 1.0, 10000.0);
-  namespace fs = std::filesystem;
-  std::string tf = root.get<std::string>("turbine_file", "turbine/benchmark_4.8MW.yaml");
-  if (fs::path(tf).is_relative()) {
-    const fs::path beside = fs::path(path).parent_path() / tf;
-    tf = fs::exists(beside) ? beside.string() : (fs::path(deploy_dir) / tf).string();
-  }
-  if (!fs::exists(tf)) throw root.error("turbine_file", "turbine file '" + tf + "' not found");
-  sc.turbine_file = tf;
-  sc.turbine = load_turbine_params_file(tf);
+  sc.turbine_file = scenario_turbine_file(root, path, deploy_dir);
+  sc.turbine = load_turbine_params_file(sc.turbine_file);
   std::set<std::string> ids;
   for (const auto& t : root.sequence("turbines")) {
     t.require_known_keys({"id", "wind", "ice_mass"});

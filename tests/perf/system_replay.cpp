@@ -7,7 +7,7 @@
 // and hides every later fault. A fast way to tune and judge the services together; the DDS system is judged
 // by multi_fault_suite.py.
 #include <CLI/CLI.hpp>
-#include <filesystem>
+#include <algorithm>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -89,18 +89,37 @@ nlohmann::json config_json(const arbiter::Configuration& c, const std::string& i
           {"reasons", reasons}};
 }
 
-// The --set values for this configuration file (SERVICE = the file's name without .yaml); a setting without
-// "SERVICE.KEY=" is a ConfigError, as is a key the service does not know (its own check).
-YamlSection with_settings(YamlSection section, const std::vector<std::string>& settings) {
-  const std::string service = std::filesystem::path(section.file()).stem().string();
-  for (const auto& setting : settings) {
+// One --set: SERVICE.KEY=VALUE.
+struct Setting {
+  std::string service, key, value;
+};
+
+// Parses the --set values once; a malformed one, or one for a configuration not among `known`, is a
+// ConfigError (a key the service does not know is its own check, at configure).
+std::vector<Setting> parse_settings(const std::vector<std::string>& raw,
+                                    const std::vector<std::string>& known) {
+  std::vector<Setting> out;
+  std::string names;
+  for (const auto& k : known) names += (names.empty() ? "" : ", ") + k;
+  for (const auto& setting : raw) {
     const auto dot = setting.find('.'), eq = setting.find('=');
     if (dot == std::string::npos || eq == std::string::npos || eq < dot)
       throw ConfigError("--set", 0, setting, "expected SERVICE.KEY=VALUE");
-    if (setting.substr(0, dot) != service) continue;
-    YAML::Node node = section.node();
-    node[setting.substr(dot + 1, eq - dot - 1)] = YAML::Load(setting.substr(eq + 1));
+    Setting s{setting.substr(0, dot), setting.substr(dot + 1, eq - dot - 1), setting.substr(eq + 1)};
+    if (std::find(known.begin(), known.end(), s.service) == known.end())
+      throw ConfigError("--set", 0, setting, "no configuration '" + s.service + "' (" + names + ")");
+    out.push_back(s);
   }
+  return out;
+}
+
+// `service`'s configuration file with its --set keys replaced.
+YamlSection with_settings(const std::string& file, const std::string& service,
+                          const std::vector<Setting>& settings) {
+  YamlSection section = YamlSection::load_file(file);
+  YAML::Node node = section.node();
+  for (const auto& s : settings)
+    if (s.service == service) node[s.key] = YAML::Load(s.value);
   return section;
 }
 
@@ -121,24 +140,17 @@ int main(int argc, char** argv) {
       "relative to --config-dir, or absolute), e.g. every service's turbine_file for another turbine");
   CLI11_PARSE(app, argc, argv);
   try {
-    for (const auto& setting : settings) {
-      const std::string service = setting.substr(0, setting.find('.'));
-      if (service != "blade_load" && service != "sensor_bias" && service != "pitch_diag" &&
-          service != "ice_detect" && service != "drive_train" && service != "arbiter")
-        throw ConfigError("--set", 0, setting,
-                          "no configuration '" + service +
-                              "' (blade_load, sensor_bias, pitch_diag, ice_detect, drive_train, arbiter)");
-    }
     std::vector<Service> services;
     for (auto make : {blade_load::blade_load_spec, sensor_bias::sensor_bias_spec, pitch_diag::pitch_diag_spec,
-                      ice_detect::ice_detect_spec, drive_train::drive_train_spec}) {
-      Service s{make(), {}, {}, {}};
-      s.spec.configure(
-          with_settings(YamlSection::load_file(config_dir + "/" + s.spec.name + ".yaml"), settings));
-      services.push_back(std::move(s));
-    }
-    const auto arbiter_config = arbiter::load_arbiter_config(
-        with_settings(YamlSection::load_file(config_dir + "/arbiter.yaml"), settings));
+                      ice_detect::ice_detect_spec, drive_train::drive_train_spec})
+      services.push_back(Service{make(), {}, {}, {}});
+    std::vector<std::string> known{"arbiter"};
+    for (const auto& s : services) known.push_back(s.spec.name);
+    const std::vector<Setting> set = parse_settings(settings, known);
+    for (auto& s : services)
+      s.spec.configure(with_settings(config_dir + "/" + s.spec.name + ".yaml", s.spec.name, set));
+    const auto arbiter_config =
+        arbiter::load_arbiter_config(with_settings(config_dir + "/arbiter.yaml", "arbiter", set));
     std::map<std::string, Turbine> turbines;
     std::ofstream out(history_file);
     if (!out) throw ConfigError(history_file, 0, "", "cannot write");

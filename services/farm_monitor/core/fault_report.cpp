@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -74,16 +73,9 @@ double stop_ice_mass(const TurbineParams& turbine) {
 
 std::vector<InjectedFault> read_injected(const std::string& file) {
   const auto root = YamlSection::load_file(file);
-  // The scenario's turbine as the plant finds it: beside the scenario, else under deploy/ (the default).
-  namespace fs = std::filesystem;
-  std::string turbine_file = root.get<std::string>("turbine_file", "turbine/benchmark_4.8MW.yaml");
-  if (fs::path(turbine_file).is_relative()) {
-    const fs::path beside = fs::path(file).parent_path() / turbine_file;
-    turbine_file = fs::exists(beside) ? beside.string() : (fs::path(deploy_dir()) / turbine_file).string();
-  }
-  if (!fs::exists(turbine_file))
-    throw root.error("turbine_file", "turbine file '" + turbine_file + "' not found");
-  const double stop_ice = stop_ice_mass(load_turbine_params_file(turbine_file));
+  // The scenario's turbine as the plant finds it.
+  const double stop_ice =
+      stop_ice_mass(load_turbine_params_file(scenario_turbine_file(root, file, deploy_dir())));
   std::vector<InjectedFault> out;
   for (const auto& f : root.sequence("faults")) {
     InjectedFault i;

@@ -288,11 +288,11 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   else if (slow_since_ < 0.0)
     slow_since_ = t;
   const bool slow_drop = slow_since_ >= 0.0 && t - slow_since_ >= cfg_.shed_confirm;
-  if (shed_raised_at_ < 0.0 &&
-      (cp_recovered || (dropping && t - shed_since_ >= cfg_.shed_confirm) || slow_drop)) {
+  const bool fast_drop = dropping && t - shed_since_ >= cfg_.shed_confirm;
+  if (shed_raised_at_ < 0.0 && (cp_recovered || fast_drop || slow_drop)) {
     shed_raised_at_ = shed_last_ = t;
     slow_history_.clear();
-    const bool fast_route = !cp_recovered && dropping && t - shed_since_ >= cfg_.shed_confirm;
+    const bool fast_route = !cp_recovered && fast_drop;
     FaultEvent e = rotor_event("ice_shedding", true, "warning", t, fast_route ? shed_since_ : t);
     char detail[200];
     if (cp_recovered) {
