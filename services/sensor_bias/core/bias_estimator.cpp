@@ -42,6 +42,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
                         "type_evidence_at_deadline",
                         "type_decision_time_rotor_speed",
                         "type_decision_time_generator_speed",
+                        "type_decision_time_generator_speed_below_rated",
                         "type_decision_time_pitch",
                         "differential_confirm",
                         "pitch_offset_confirm",
@@ -93,6 +94,9 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
       s.get_number("type_decision_time_rotor_speed", c.type_decision_time[0], 0.0, 3600.0);
   c.type_decision_time[1] =
       s.get_number("type_decision_time_generator_speed", c.type_decision_time[1], 0.0, 3600.0);
+  c.type_decision_time_generator_below_rated =
+      s.get_number("type_decision_time_generator_speed_below_rated",
+                   c.type_decision_time_generator_below_rated, 0.0, 3600.0);
   c.type_decision_time[2] = c.type_decision_time[3] = c.type_decision_time[4] =
       s.get_number("type_decision_time_pitch", c.type_decision_time[2], 0.0, 3600.0);
   c.differential_confirm = s.get_number("differential_confirm", c.differential_confirm, 0.0, 1.0);
@@ -301,6 +305,7 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
     const bool witness_ok = (s.valid_mask & kValidPower) && std::isfinite(s.power) && s.power > 0.0 &&
                             power_speed <= cfg_.generator_speed_max;
     const double wg = witness_ok ? power_speed : kNaN;
+    if (witness_ok) filtered_power_ += filter_a_ * (s.power - filtered_power_);
     // The gain-or-offset test takes the torque from the converter's first-order response to its reference,
     // which carries no measurement noise: the witness's noise falls from 0.5 to 0.06-0.1 rad/s, and a
     // generator-speed fault's type is decided in 1-5 s instead of 5-20 s.
@@ -397,7 +402,10 @@ const char* BiasEstimator::fault_class(std::size_t k, double waited) {
     case GainOrOffsetTest::Verdict::kUndecided:
       break;
   }
-  if (waited < cfg_.type_decision_time[k] - 1e-9) return nullptr;
+  const bool below_rated = filtered_power_ < kBelowRatedPowerShare * turbine_.rated_power;
+  const double deadline =
+      k == 1 && below_rated ? cfg_.type_decision_time_generator_below_rated : cfg_.type_decision_time[k];
+  if (waited < deadline - 1e-9) return nullptr;
   return fault_type_[k].verdict_now(cfg_.type_evidence_at_deadline) == GainOrOffsetTest::Verdict::kGain
              ? "sensor_gain"
              : "sensor_bias";
