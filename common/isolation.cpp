@@ -13,24 +13,25 @@ const std::vector<Signature>& signature_table() {
   // Rows: root cause -> a residual of another service that it moves. Columns of the documented table are
   // the responders; a service's own residual for its own fault is not listed (that report is the root).
   static const std::vector<Signature> t = {
-      // sensor_bias reports a rotor-speed fault up to type_decision_time_rotor_speed (20 s) after its
-      // onset, while it weighs gain against offset: its responders may lead it by that much more.
+      // sensor_bias reports a speed-sensor fault up to type_decision_time (rotor speed 60 s, generator speed
+      // below rated 20 s) after its onset, while it weighs gain against offset: its responders may lead it
+      // by that much more.
       {"rotor_speed_sensor", "*", "blade_load", "blade_moment_sensor_*",
-       "the LIDAR load model's tip-speed ratio uses the rotor speed", 40.0},
+       "the LIDAR load model's tip-speed ratio uses the rotor speed", 80.0},
       {"rotor_speed_sensor", "*", "pitch_diag", "pitch_actuator_*",
-       "the speed controller moves every pitch reference on a wrong speed", 40.0},
-      {"rotor_speed_sensor", "*", "sensor_bias", "pitch_sensor_*", "the same pitch transient", 40.0},
-      {"rotor_speed_sensor", "*", "ice_detect", "rotor", "the inertia is estimated from the speed", 40.0},
+       "the speed controller moves every pitch reference on a wrong speed", 80.0},
+      {"rotor_speed_sensor", "*", "sensor_bias", "pitch_sensor_*", "the same pitch transient", 80.0},
+      {"rotor_speed_sensor", "*", "ice_detect", "rotor", "the inertia is estimated from the speed", 80.0},
       {"generator_speed_sensor", "*", "blade_load", "blade_moment_sensor_*",
-       "the controller's pitch and speed move the blade loads"},
+       "the controller's pitch and speed move the blade loads", 40.0},
       {"generator_speed_sensor", "*", "pitch_diag", "pitch_actuator_*",
-       "the pitch controller runs on the generator speed"},
-      {"generator_speed_sensor", "*", "sensor_bias", "pitch_sensor_*", "the same pitch transient"},
-      {"generator_speed_sensor", "*", "ice_detect", "rotor", "the inertia is estimated from the speed"},
+       "the pitch controller runs on the generator speed", 40.0},
+      {"generator_speed_sensor", "*", "sensor_bias", "pitch_sensor_*", "the same pitch transient", 40.0},
+      {"generator_speed_sensor", "*", "ice_detect", "rotor", "the inertia is estimated from the speed", 40.0},
       {"generator_speed_sensor", "*", "drive_train", "drive_train",
-       "the energy balance takes the rotor's speed (for Cp) and acceleration from the generator speed"},
+       "the energy balance takes the rotor's speed (for Cp) and acceleration from the generator speed", 40.0},
       {"generator_speed_sensor", "*", "sensor_bias", "rotor_speed_sensor",
-       "the drive-train observer places part of a generator-speed error on the rotor-speed bias"},
+       "the drive-train observer places part of a generator-speed error on the rotor-speed bias", 40.0},
       {"pitch_sensor_i", "*", "pitch_diag", "pitch_actuator_i",
        "the measured pitch is the identified actuator output"},
       {"pitch_sensor_i", "*", "blade_load", "blade_moment_sensor_i",

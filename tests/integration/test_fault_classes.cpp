@@ -161,8 +161,8 @@ INSTANTIATE_TEST_SUITE_P(EveryClass, FaultClassPipeline,
                                  FaultClass{
                                      "sensor_bias_rotor_speed", "sensor_bias_rotor_speed.yaml",
                                      "windfdi-sensor-bias", "sensor_bias", "rotor_speed_sensor",
-                                     // reported once gain and offset are told apart: up to 20 s
-                                     "sensor_bias", 150, 22, 10,
+                                     // reported once gain and offset are told apart: up to 60 s
+                                     "sensor_bias", 150, 62, 10,
                                      [](const json& c) { return c["use_corrected_rotor_speed"] == true; }},
                                  FaultClass{"sensor_bias_generator_speed", "sensor_bias_generator_speed.yaml",
                                             "windfdi-sensor-bias", "sensor_bias", "generator_speed_sensor",

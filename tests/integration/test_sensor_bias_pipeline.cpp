@@ -76,7 +76,7 @@ TEST_P(SensorBiasReplay, PlantRecordingRaisesTheBiasedSensorOnlyAfterTheOnset) {
 INSTANTIATE_TEST_SUITE_P(
     Scenarios, SensorBiasReplay,
     ::testing::Values(
-        ReplayCase{"sensor_bias_rotor_speed.yaml", "rotor_speed_sensor", "sensor_bias", 172.0},
+        ReplayCase{"sensor_bias_rotor_speed.yaml", "rotor_speed_sensor", "sensor_bias", 212.0},
         ReplayCase{"sensor_bias_generator_speed.yaml", "generator_speed_sensor", "sensor_bias", 155.0},
         ReplayCase{"sensor_gain_generator_speed.yaml", "generator_speed_sensor", "sensor_gain", 155.0},
         ReplayCase{"sensor_bias_pitch.yaml", "pitch_sensor_2", "sensor_bias", 155.0}),

@@ -84,15 +84,19 @@ TEST(Isolation, EveryTableRowHasACase) {
 }
 
 TEST(Isolation, ARotorSpeedFaultExplainsWhatRespondedWhileItsTypeWasWeighed) {
-  // GIVEN a blade-moment report 30 s before the rotor-speed report (sensor_bias weighs gain against offset
-  // for up to 20 s after the threshold is crossed)
+  // GIVEN a blade-moment report 70 s before the rotor-speed report (sensor_bias weighs gain against offset
+  // for up to 60 s after the threshold is crossed)
   const auto v = isolate({report("blade_load", "blade_moment_sensor_1", "sensor_drift", 1000),
-                          report("sensor_bias", "rotor_speed_sensor", "sensor_gain", 1030)});
-  // THEN the blade-moment report is the rotor speed's echo (the rotor rows' own lead, 40 s)
+                          report("sensor_bias", "rotor_speed_sensor", "sensor_gain", 1070)});
+  // THEN the blade-moment report is the rotor speed's echo (the rotor rows' own lead, 80 s)
   EXPECT_TRUE(v[0].secondary);
-  // AND the same lead does not reach a generator-speed root (the default 15 s)
+  // AND a generator-speed root (below rated it weighs for up to 20 s) explains one 30 s before it ...
+  EXPECT_TRUE(isolate({report("blade_load", "blade_moment_sensor_1", "sensor_drift", 1000),
+                       report("sensor_bias", "generator_speed_sensor", "sensor_gain", 1030)})[0]
+                  .secondary);
+  // ... but not 70 s before (its rows' lead, 40 s)
   EXPECT_FALSE(isolate({report("blade_load", "blade_moment_sensor_1", "sensor_drift", 1000),
-                        report("sensor_bias", "generator_speed_sensor", "sensor_gain", 1030)})[0]
+                        report("sensor_bias", "generator_speed_sensor", "sensor_gain", 1070)})[0]
                    .secondary);
 }
 
