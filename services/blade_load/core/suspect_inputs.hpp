@@ -23,6 +23,8 @@ struct SuspectInputConfig {
   double context_hold = 10.0;   ///< s held after another service raised or cleared a fault on an input the
                                 ///< model uses (a speed or pitch sensor, an actuator), or the arbiter
                                 ///< reconfigured the controller; held as long as such a fault stays raised
+                                ///< (a generator-speed fault: only this long; the model takes the rotor
+                                ///< speed)
 };
 
 class SuspectInputs {
