@@ -50,7 +50,10 @@ bool BladeLoadMonitor::gated() const {
   return gate_.holds(n);
 }
 
-bool BladeLoadMonitor::update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events) {
+bool BladeLoadMonitor::update(const FrameSample& sample, bool gap, std::vector<FaultEvent>& events) {
+  // A rotor-speed fault another service has placed: lambda and the revolutions from the generator speed.
+  FrameSample twin;
+  const FrameSample& s = suspects_.speed_twin(sample, twin) ? twin : sample;
   const double t = s.t;
   if (gap) reset_windows();
   // The LIDAR history is kept through a standstill: resuming with a stale one read as a lost LIDAR.

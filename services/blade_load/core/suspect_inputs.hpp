@@ -23,8 +23,8 @@ struct SuspectInputConfig {
   double context_hold = 10.0;   ///< s held after another service raised or cleared a fault on an input the
                                 ///< model uses (a speed or pitch sensor, an actuator), or the arbiter
                                 ///< reconfigured the controller; held as long as such a fault stays raised
-                                ///< (a generator-speed fault: only this long; the model takes the rotor
-                                ///< speed)
+                                ///< (a fault on one speed sensor: only this long; lambda comes from the
+                                ///< other one)
 };
 
 class SuspectInputs {
@@ -35,10 +35,15 @@ class SuspectInputs {
   bool update(const FrameSample& s);
   /// The inputs' context (input_context.hpp) from sample time t on.
   void set_context(const InputContext& context, double t) { hold_.set(context, t); }
+  /// While another service reports the rotor speed and not the generator speed: `s` with the rotor speed
+  /// replaced by its redundant twin, the generator speed over the gear ratio (true; else false).
+  bool speed_twin(const FrameSample& s, FrameSample& twin) const;
   /// Samples on which an input was suspect.
   uint64_t suspect_samples() const { return suspect_samples_; }
 
  private:
+  bool twin_usable(const FrameSample& s) const;  // the generator speed can stand in for the rotor speed
+
   SuspectInputConfig c_;
   double dt_;
   SuspectHold hold_;
