@@ -74,6 +74,11 @@ struct BiasConfig {
   /// 5: 12 times likelier) or the simpler model, the offset, is reported. The rotor speed's slow residual
   /// makes its evidence run high: offsets reached 2.4-4.7 there in the suite.
   double type_evidence_at_deadline = 5.0;
+  /// A pitch channel whose error the full model [1, reference, rate] fits this much better (the same
+  /// likelihood ratio) than both the offset and the gain is no sensor fault: it is not raised (the blade's
+  /// dynamics changed, pitch_diag's to report). Measured on the plant: pitch sensor offsets and gains 0-8,
+  /// the paper's time-varying bias 18-51, abrupt leaks 200-840. 0: off.
+  double type_misfit_max = 100.0;
   /// Observer mode: a speed sensor is flagged only when the differential b_r - b_g / N (what the two speed
   /// sensors alone can see) confirms it with the same sign and at least this share of the threshold.
   double differential_confirm = 0.5;

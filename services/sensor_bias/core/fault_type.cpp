@@ -54,6 +54,15 @@ double GainOrOffsetTest::evidence() const {
   return (offset_rss - gain_rss) / std::max(noise, 1e-12 * ee_ / blocks_ + 1e-300);
 }
 
+double GainOrOffsetTest::misfit() const {
+  if (blocks_ <= 3) return 0.0;
+  const double best =
+      std::min(fit(Eigen::Vector3d(1, 0, 1), nullptr), fit(Eigen::Vector3d(0, 1, 1), nullptr));
+  const double full = fit(Eigen::Vector3d(1, 1, 1), nullptr);
+  const double noise = full / static_cast<double>(blocks_ - 3);
+  return (best - full) / std::max(noise, 1e-12 * ee_ / blocks_ + 1e-300);
+}
+
 GainOrOffsetTest::Verdict GainOrOffsetTest::verdict(double min_evidence) const {
   const double e = evidence();
   // A "gain" that is further than 1 from unity (a reading of the opposite sign, or a gain model fitted on a

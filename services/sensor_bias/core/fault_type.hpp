@@ -38,6 +38,10 @@ class GainOrOffsetTest {
   /// The decision when no more time is left: kGain when the evidence reaches `gain_margin`, else kOffset (the
   /// simpler model, which a tie leaves standing).
   Verdict verdict_now(double gain_margin) const;
+  /// How much better the full model [1, x, z] fits than the better of the two (the same likelihood ratio):
+  /// small for a sensor's offset or gain; large when the error is neither, e.g. a slow actuator whose answer
+  /// to the quantity's swing is smaller while its mean is right (an intercept cancelling a slope).
+  double misfit() const;
   double gain() const;    ///< the gain model's sensor gain
   double offset() const;  ///< a of the offset model
 
