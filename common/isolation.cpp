@@ -14,19 +14,24 @@ const std::vector<Signature>& signature_table() {
   // the responders; a service's own residual for its own fault is not listed (that report is the root).
   static const std::vector<Signature> t = {
       // sensor_bias reports a speed-sensor fault up to type_decision_time (rotor speed 60 s, generator speed
-      // below rated 20 s) after its onset, while it weighs gain against offset: its responders may lead it
-      // by that much more.
+      // below rated 20 s) after its onset, while it weighs gain against offset: a responder that reacts at
+      // the
+      // onset (blade_load's lambda, ice_detect's inertia, drive_train's balance) may lead it by that much
+      // more.
+      // The pitch responds to the controller, which acts on the report (a switch to the corrected speed) or,
+      // for the generator speed above rated, within its 5 s wait: those rows keep shorter leads, so that a
+      // leak a minute before a speed report is still its own root.
       {"rotor_speed_sensor", "*", "blade_load", "blade_moment_sensor_*",
        "the LIDAR load model's tip-speed ratio uses the rotor speed", 80.0},
       {"rotor_speed_sensor", "*", "pitch_diag", "pitch_actuator_*",
-       "the speed controller moves every pitch reference on a wrong speed", 80.0},
-      {"rotor_speed_sensor", "*", "sensor_bias", "pitch_sensor_*", "the same pitch transient", 80.0},
+       "the speed controller moves every pitch reference on a wrong speed", 40.0},
+      {"rotor_speed_sensor", "*", "sensor_bias", "pitch_sensor_*", "the same pitch transient", 40.0},
       {"rotor_speed_sensor", "*", "ice_detect", "rotor", "the inertia is estimated from the speed", 80.0},
       {"generator_speed_sensor", "*", "blade_load", "blade_moment_sensor_*",
        "the controller's pitch and speed move the blade loads", 40.0},
       {"generator_speed_sensor", "*", "pitch_diag", "pitch_actuator_*",
-       "the pitch controller runs on the generator speed", 40.0},
-      {"generator_speed_sensor", "*", "sensor_bias", "pitch_sensor_*", "the same pitch transient", 40.0},
+       "the pitch controller runs on the generator speed"},
+      {"generator_speed_sensor", "*", "sensor_bias", "pitch_sensor_*", "the same pitch transient"},
       {"generator_speed_sensor", "*", "ice_detect", "rotor", "the inertia is estimated from the speed", 40.0},
       {"generator_speed_sensor", "*", "drive_train", "drive_train",
        "the energy balance takes the rotor's speed (for Cp) and acceleration from the generator speed", 40.0},
