@@ -14,13 +14,11 @@ const std::vector<Signature>& signature_table() {
   // the responders; a service's own residual for its own fault is not listed (that report is the root).
   static const std::vector<Signature> t = {
       // sensor_bias reports a speed-sensor fault up to type_decision_time (rotor speed 60 s, generator speed
-      // below rated 20 s) after its onset, while it weighs gain against offset: a responder that reacts at
-      // the
-      // onset (blade_load's lambda, ice_detect's inertia, drive_train's balance) may lead it by that much
-      // more.
-      // The pitch responds to the controller, which acts on the report (a switch to the corrected speed) or,
-      // for the generator speed above rated, within its 5 s wait: those rows keep shorter leads, so that a
-      // leak a minute before a speed report is still its own root.
+      // below rated 20 s) after its onset, while it weighs gain against offset: a responder that reacts
+      // at the onset (blade_load's lambda, ice_detect's inertia, drive_train's balance) may lead it by that
+      // much more. The pitch responds to the controller, which acts on the report (a switch to the
+      // corrected speed) or, for the generator speed above rated, within its 5 s wait: those rows keep
+      // shorter leads, so that a leak a minute before a speed report is still its own root.
       {"rotor_speed_sensor", "*", "blade_load", "blade_moment_sensor_*",
        "the LIDAR load model's tip-speed ratio uses the rotor speed", 80.0},
       {"rotor_speed_sensor", "*", "pitch_diag", "pitch_actuator_*",

@@ -15,8 +15,8 @@ bool SuspectInputs::twin_usable(const FrameSample& s) const {
 bool SuspectInputs::speed_twin(const FrameSample& s, FrameSample& twin) const {
   if (!hold_.context().rotor_speed_suspect || !twin_usable(s)) return false;
   twin = s;
-  twin.rotor_speed = s.generator_speed / c_.gear_ratio;
-  if (std::isfinite(twin.rotor_speed)) twin.valid_mask |= kValidRotorSpeed;
+  twin.rotor_speed = s.generator_speed / c_.gear_ratio;  // finite: twin_usable checked both
+  twin.valid_mask |= kValidRotorSpeed;
   return true;
 }
 

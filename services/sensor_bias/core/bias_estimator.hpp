@@ -61,8 +61,8 @@ struct BiasConfig {
   /// speed steers no controller (only the LIDAR load model's tip-speed ratio), so it may wait longest; the
   /// generator speed steers the speed controller, so the corrected speed must not wait long.
   /// The rotor speed's 60 s: at a steady speed above rated its evidence grows slowly, and with 20 s 9 of 23
-  /// rotor-speed gains in the suite (seed 1) were named `sensor_bias` (with 60 s: 4; right first 94.4 -> 95.5
-  /// %).
+  /// rotor-speed gains in the suite (seed 1) were named `sensor_bias` (with 60 s: 4; right first from 94.4
+  /// to 95.5 %).
   std::array<double, kChannels> type_decision_time{60.0, 5.0, 5.0, 5.0, 5.0};
   /// s the generator speed may wait instead while the electrical power is below kBelowRatedPowerShare of
   /// rated: there it sets only the torque (K omega^2; a wrong torque costs a little power), not the pitch,

@@ -45,13 +45,16 @@ double GainOrOffsetTest::fit(const Eigen::Vector3d& use, Eigen::Vector3d* coeffi
   return std::max(0.0, ee_ - c.dot(b));
 }
 
+double GainOrOffsetTest::noise_variance(double full_rss) const {
+  // Noise-free data (a synthetic record) would divide by zero: floor the variance far below any sensor's.
+  return std::max(full_rss / static_cast<double>(blocks_ - 3), 1e-12 * ee_ / blocks_ + 1e-300);
+}
+
 double GainOrOffsetTest::evidence() const {
   if (blocks_ <= 3) return 0.0;
   const double offset_rss = fit(Eigen::Vector3d(1, 0, 1), nullptr);
   const double gain_rss = fit(Eigen::Vector3d(0, 1, 1), nullptr);
-  const double noise = fit(Eigen::Vector3d(1, 1, 1), nullptr) / static_cast<double>(blocks_ - 3);
-  // Noise-free data (a synthetic record) would divide by zero: floor the variance far below any sensor's.
-  return (offset_rss - gain_rss) / std::max(noise, 1e-12 * ee_ / blocks_ + 1e-300);
+  return (offset_rss - gain_rss) / noise_variance(fit(Eigen::Vector3d(1, 1, 1), nullptr));
 }
 
 double GainOrOffsetTest::misfit() const {
@@ -59,8 +62,7 @@ double GainOrOffsetTest::misfit() const {
   const double best =
       std::min(fit(Eigen::Vector3d(1, 0, 1), nullptr), fit(Eigen::Vector3d(0, 1, 1), nullptr));
   const double full = fit(Eigen::Vector3d(1, 1, 1), nullptr);
-  const double noise = full / static_cast<double>(blocks_ - 3);
-  return (best - full) / std::max(noise, 1e-12 * ee_ / blocks_ + 1e-300);
+  return (best - full) / noise_variance(full);
 }
 
 GainOrOffsetTest::Verdict GainOrOffsetTest::verdict(double min_evidence) const {

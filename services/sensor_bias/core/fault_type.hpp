@@ -48,6 +48,8 @@ class GainOrOffsetTest {
  private:
   // Least squares over the regressors in `use` ([1, x, z]); returns the residual sum of squares.
   double fit(const Eigen::Vector3d& use, Eigen::Vector3d* coefficients) const;
+  // The noise variance per block from the full model's residual sum of squares (the likelihood units).
+  double noise_variance(double full_rss) const;
 
   int block_samples_ = 1;
   bool regressor_is_reading_ = false;
