@@ -35,7 +35,8 @@ class ArbiterFarm : public ::testing::Test {
  protected:
   void SetUp() override {
     dir = temp_dir("arbiter_farm_" + std::to_string(domain));
-    std::ofstream(dir + "/arbiter.yaml") << "clear_hold: 2.0\n";
+    // The stop mechanism with a short confirmation (the shipped 90 s would make the test wait 90 s).
+    std::ofstream(dir + "/arbiter.yaml") << "clear_hold: 2.0\nstop_confirm_time: 10.0\n";
   }
   void TearDown() override { remove_stale_shm(domain); }
   int domain = private_domain(2);

@@ -92,14 +92,17 @@ TEST_F(PlantDds, StandbyArbiterTakesOverAtThePlantWithinTheLease) {
 }
 
 TEST_F(PlantDds, WithoutArbiterTheLeaseExpiresButASafeStopStays) {
-  // GIVEN a critical leak making the arbiter order a safe stop
+  // GIVEN a critical leak making the arbiter order a safe stop (confirmed after 5 s here: the plant runs in
+  // real time, and the shipped 90 s would only make the test wait)
+  const std::string dir = temp_dir("plant_lease_" + std::to_string(domain));
+  std::ofstream(dir + "/arbiter.yaml") << "stop_confirm_time: 5.0\n";
   ChildProcess plant({bin("windfdi-plant"), "--scenario", kScenarios + "hydraulic_leakage.yaml", "--duration",
                       "120", "--config-lease", "3"},
                      env, "plant");
   ChildProcess service({bin("windfdi-test-peer"), "fault", "--source", "pitch_diag", "--turbine-id", "WT01",
                         "--script", "1:pitch_actuator_1:hydraulic_leakage:critical:raised", "--hold", "120"},
                        env, "pitch_diag");
-  ChildProcess arbiter({bin("windfdi-arbiter")}, env, "arbiter");
+  ChildProcess arbiter({bin("windfdi-arbiter"), "--config", dir + "/arbiter.yaml"}, env, "arbiter");
   ASSERT_TRUE(wait_until([&] { return contains(plant, "mode 2"); }, std::chrono::seconds(30)))
       << plant.stderr_text();
   // WHEN the only arbiter dies
