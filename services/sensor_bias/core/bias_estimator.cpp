@@ -246,13 +246,23 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       repeated_[b] = y == last_pitch_[b] ? repeated_[b] + 1 : 0;
       last_pitch_[b] = y;
       const bool stuck = cfg_.stuck_time > 0.0 && repeated_[b] * dt_ >= cfg_.stuck_time;
+      // The actuator is outrun by a reference that moves faster than its rate limit (the arbiter's, or the
+      // turbine's): a safe stop's jump to feather, a reconfiguration's step, a derated blade. The
+      // controller's own reference moves at up to 9.8 deg/s under the 10 deg/s limit (21 m/s, TI 0.16), so a
+      // fifth above the limit is a jump. The actuator then runs at its rate limit until the pitch, corrected
+      // by the bias known before the jump, is back near its reference: a healthy blade tracks within 1.5 deg.
+      const double rate_limit = std::min(turbine_.pitch_rate_limit, context_.pitch_rate_limit[b]);
+      if (pitch_init_[b] && std::fabs(r - last_pitch_ref_[b]) > kOutrunRatio * rate_limit * dt_)
+        outrun_[b] = true;
+      if (std::fabs(r - (y - held(0))) <= 0.5 * cfg_.max_tracking_error) outrun_[b] = false;
+      last_pitch_ref_[b] = r;
       if (context_.pitch_actuator_suspect[b]) {
         // Another service (pitch_diag) reports this blade's actuator: the observer's healthy actuator model
         // would turn the actuator's fault into a sensor bias. Hold, as below.
         o.state().tail<2>() = held;
         o.state()(0) = y - held(0);
         ++actuator_holds_;
-      } else if (!stuck && cfg_.max_tracking_error > 0.0 && std::fabs(r - y) > cfg_.max_tracking_error) {
+      } else if (!stuck && cfg_.max_tracking_error > 0.0 && outrun_[b]) {
         // Rate-limited: the measured 28-31 deg lag of a safe stop's feathering ramp read as a bias on healthy
         // blades (end to end). Hold the bias (and its rate); the angle follows the measurement.
         o.state().tail<2>() = held;

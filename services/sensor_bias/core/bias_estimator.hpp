@@ -39,9 +39,11 @@ struct BiasConfig {
   /// above this (its noise grows as 1 / T_g).
   double witness_torque_min =
       3000.0;  ///< N m; below it (not producing: a stop, idling) the speed biases are held
-  /// Observer mode: while |pitch reference - pitch| exceeds this (deg) the actuator runs at its rate limit (a
-  /// safe stop's jump to feather), where the linear actuator model does not hold: the pitch bias is held. 0:
-  /// off.
+  /// Observer mode: after the pitch reference has moved faster than the blade's rate limit (a safe stop's
+  /// jump to feather, a reconfiguration's step, a derated blade) the actuator runs at its rate limit, where
+  /// the linear actuator model does not hold: the pitch bias is held until the bias-corrected pitch is back
+  /// within half of this (deg) of its reference. A sensor's gain or offset leaves the pitch as far from its
+  /// reference (a gain of 1.25 at 20 deg: 5 deg) but with no such reference move, and is not held. 0: off.
   double max_tracking_error = 5.0;
   /// s of a pitch reading repeated to the last bit: a stuck sensor (a healthy one carries noise). Its
   /// tracking error is the fault itself, so the rate-limit hold above does not apply to it. 0: off.
@@ -181,6 +183,8 @@ class BiasEstimator {
   const char* fault_class(std::size_t k, double waited);
   /// Electrical power below which the generator speed steers no pitch (share of rated; region 2).
   static constexpr double kBelowRatedPowerShare = 0.9;
+  // A pitch reference moving faster than this share of the blade's rate limit outruns its actuator.
+  static constexpr double kOutrunRatio = 1.2;
   std::string detail(std::size_t k, bool raised) const;  ///< the report's detail for channel k
 
   BiasConfig cfg_;
@@ -216,6 +220,9 @@ class BiasEstimator {
   InputContext context_;
   std::array<double, 3> last_pitch_{};
   std::array<int, 3> repeated_{};  // consecutive samples with the same pitch reading
+  std::array<double, 3> last_pitch_ref_{};
+  // The reference moved faster than the actuator can follow, and the pitch has not caught up with it yet.
+  std::array<bool, 3> outrun_{};
   // Per channel (rotor speed, generator speed, pitch 1-3): the last reading, its repeats, and the class
   // raised.
   std::array<double, kChannels> last_reading_{};
