@@ -258,8 +258,11 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   while (!fast_history_.empty() && t - fast_history_.front().first > 90.0) fast_history_.pop_front();
   // The aerodynamic signature of the same event: ice that falls off gives back the Cp it took, a step up of
   // the power model's calibration (the estimator restarts on it, so the inertia drop itself is confirmed
-  // only a window later).
-  const bool cp_recovered = cp_step && cfg_.shed_power_step > 0.0 && estimator_.last_step_from_settled() &&
+  // only a window later). Only on a rotor whose ice takes Cp (the turbine file's ice_cp_loss): on one whose
+  // ice does not, a calibration step is the wind's, and it raised "about 0 kg shed" on the example 2 MW
+  // turbine, after which the real shedding fell in the wait that follows one and went unreported.
+  const bool cp_recovered = cp_step && cfg_.shed_power_step > 0.0 && cfg_.ice_cp_loss > 0.0 &&
+                            estimator_.last_step_from_settled() &&
                             estimator_.last_power_step() >= cfg_.shed_power_step && iced;
   if (raised_level_ < 2)
     fault_since_ = -1.0;
