@@ -228,8 +228,10 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       continue;
     }
     const Eigen::Matrix<double, 1, 1> yv(y), uv(r);
+    double reference_step = 0.0;  // deg since the last valid sample (the offset fit keeps that reference)
     {
       auto& fit = pitch_offset_[static_cast<std::size_t>(i)];
+      if (fit.started) reference_step = std::fabs(r - fit.last_ref);
       fit.update(y - r, r, dt_, pitch_offset_forget_, rate_a_);
       fault_type_[c].add(y - r, r, fit.v_lp);
     }
@@ -252,10 +254,8 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       // fifth above the limit is a jump. The actuator then runs at its rate limit until the pitch, corrected
       // by the bias known before the jump, is back near its reference: a healthy blade tracks within 1.5 deg.
       const double rate_limit = std::min(turbine_.pitch_rate_limit, context_.pitch_rate_limit[b]);
-      if (pitch_init_[b] && std::fabs(r - last_pitch_ref_[b]) > kOutrunRatio * rate_limit * dt_)
-        outrun_[b] = true;
+      if (reference_step > kOutrunRatio * rate_limit * dt_) outrun_[b] = true;
       if (std::fabs(r - (y - held(0))) <= 0.5 * cfg_.max_tracking_error) outrun_[b] = false;
-      last_pitch_ref_[b] = r;
       if (context_.pitch_actuator_suspect[b]) {
         // Another service (pitch_diag) reports this blade's actuator: the observer's healthy actuator model
         // would turn the actuator's fault into a sensor bias. Hold, as below.

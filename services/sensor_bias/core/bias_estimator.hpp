@@ -220,7 +220,6 @@ class BiasEstimator {
   InputContext context_;
   std::array<double, 3> last_pitch_{};
   std::array<int, 3> repeated_{};  // consecutive samples with the same pitch reading
-  std::array<double, 3> last_pitch_ref_{};
   // The reference moved faster than the actuator can follow, and the pitch has not caught up with it yet.
   std::array<bool, 3> outrun_{};
   // Per channel (rotor speed, generator speed, pitch 1-3): the last reading, its repeats, and the class
