@@ -3,25 +3,36 @@
 
 namespace windfdi {
 
+void ServiceLiveliness::on_health(const Writer& writer, const std::string& turbine_id,
+                                  const std::string& service, std::vector<ServiceChange>& changes) {
+  const Key key{turbine_id, service};
+  if (!writers_[writer].insert(key).second) return;
+  auto& live = alive_[key];
+  if (live.empty()) changes.push_back({turbine_id, service, true});
+  live.insert(writer);
+}
+
+void ServiceLiveliness::on_writer_lost(const Writer& writer, std::vector<ServiceChange>& changes) {
+  auto it = writers_.find(writer);
+  if (it == writers_.end()) return;
+  for (const auto& key : it->second) {
+    auto& live = alive_[key];
+    live.erase(writer);
+    if (live.empty()) changes.push_back({key.first, key.second, false});
+  }
+  writers_.erase(it);
+}
+
 std::vector<ServiceChange> ServiceLiveliness::poll(bus::Reader<windfdi::ServiceHealth>& reader,
                                                    std::vector<windfdi::ServiceHealth>* samples) {
   std::vector<ServiceChange> changes;
   std::vector<windfdi::ServiceHealth> health;
   std::vector<bus::SampleMeta> meta;
   reader.take(health, &meta);
-  for (std::size_t i = 0; i < health.size(); ++i) {
-    auto& known = writers_[meta[i].writer];
-    if (!known.count(health[i].turbine_id()))
-      changes.push_back({health[i].turbine_id(), health[i].service(), true});
-    known[health[i].turbine_id()] = health[i].service();
-  }
-  for (const auto& ev : reader.take_liveliness_events()) {
-    if (ev.alive) continue;
-    auto it = writers_.find(ev.writer);
-    if (it == writers_.end()) continue;
-    for (const auto& [turbine, service] : it->second) changes.push_back({turbine, service, false});
-    writers_.erase(it);
-  }
+  for (std::size_t i = 0; i < health.size(); ++i)
+    on_health(meta[i].writer, health[i].turbine_id(), health[i].service(), changes);
+  for (const auto& ev : reader.take_liveliness_events())
+    if (!ev.alive) on_writer_lost(ev.writer, changes);
   if (samples) *samples = std::move(health);
   return changes;
 }

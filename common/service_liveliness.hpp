@@ -2,7 +2,9 @@
 #pragma once
 
 #include <map>
+#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ServiceHealth.h"
@@ -17,17 +19,28 @@ struct ServiceChange {
   bool alive;
 };
 
-/// Feeds on a ServiceHealth reader; remembers which writer speaks for which (turbine, service) so that
-/// a writer's lost liveliness names the services that died.
+/// Feeds on a ServiceHealth reader; remembers which writers speak for which (turbine, service). A service
+/// is alive while one of its writers is: a service restarted by systemd has a new writer, often seen before
+/// the old one's lease runs out, and that old writer's loss must not declare the running service lost.
 class ServiceLiveliness {
  public:
+  using Writer = eprosima::fastrtps::rtps::InstanceHandle_t;
+
   /// Takes new health samples and liveliness events; returns the appearances and losses, in order.
   /// `samples` receives the health samples taken (for callers that also want their contents).
   std::vector<ServiceChange> poll(bus::Reader<windfdi::ServiceHealth>& reader,
                                   std::vector<windfdi::ServiceHealth>* samples = nullptr);
 
+  /// A health sample from `writer`: an appearance when no other live writer speaks for (turbine, service).
+  void on_health(const Writer& writer, const std::string& turbine_id, const std::string& service,
+                 std::vector<ServiceChange>& changes);
+  /// `writer` lost its liveliness: a loss for each (turbine, service) no other live writer speaks for.
+  void on_writer_lost(const Writer& writer, std::vector<ServiceChange>& changes);
+
  private:
-  std::map<eprosima::fastrtps::rtps::InstanceHandle_t, std::map<std::string, std::string>> writers_;
+  using Key = std::pair<std::string, std::string>;  // (turbine, service)
+  std::map<Writer, std::set<Key>> writers_;
+  std::map<Key, std::set<Writer>> alive_;
 };
 
 }  // namespace windfdi
