@@ -33,6 +33,13 @@ struct PitchDiagConfig {
   double abrupt_time = 10.0;     ///< s of excited data; the pump-wear point reached this fast from healthy:
                                  ///< pump_wear, slower (a gradual drift along the shared path):
                                  ///< hydraulic_leakage. Held (unexcited) time does not count
+  double abrupt_pace = 3.5;      ///< s of excited data from half-way (shared_alpha / 2) to the pump-wear
+                                 ///< point: within this (and abrupt_time) the point was reached abruptly
+  double ramp_time = 16.0;       ///< s; a pace between abrupt_pace and this is a ramp of either fault (pump
+                                 ///< wear ramped in over 30 s, a leak over 30 s): undecided until the blade
+                                 ///< goes past the pump-wear signature (leak) or stays at it for
+                                 ///< shared_settle_time (pump wear). Slower: a developing leak
+  double shared_settle_time = 8.0;  ///< s of excited data at the pump-wear point that settle a ramp as it
   double shared_alpha = 0.8;     ///< alpha on the shorter (pump-wear) path that counts as reaching its point
   double short_max_alpha =
       1.15;  ///< alpha on the shorter path beyond which a point not yet raised as that fault
@@ -114,6 +121,8 @@ class BladeDiagnoser {
   double decide_from_ = -1e300;         // sample time before which no class is confirmed
   double excited_since_healthy_ = 0.0;  // s of excited data since the blade last looked healthy
   double shared_reached_after_ = -1.0;  // that excited time when it first reached the pump-wear point
+  double half_reached_after_ = -1.0;    // and when it first reached half of shared_alpha
+  double settled_at_short_ = 0.0;       // s of excited data since then at the pump-wear point
 };
 
 /// One turbine (three blades): samples in, estimates and events out. No clock, no threads.

@@ -296,6 +296,30 @@ TEST(PitchDiagnoser, HalfDevelopedLeakageIsReportedWithItsAlphaNotAsPumpWear) {
   EXPECT_EQ(rig.last.fault_class[2], "none");
 }
 
+TEST(PitchDiagnoser, ARampIsNamedByWhereItGoesPumpWearOver30sAndALeakOver30s) {
+  // GIVEN pump wear ramped in over 30 s on blade 1, or a leak ramped in over 30 s (the multi-fault suite's
+  // ramps): both pass along the shared path, the pump wear at half the leak's pace; 0.2 deg noise, 4 seeds
+  const auto& h = table1("none");
+  for (const char* fault : {"pump_wear", "hydraulic_leakage"})
+    for (int seed = 0; seed < 4; ++seed) {
+      Rig rig(PitchDiagConfig{}, 0.2, 500 + seed);
+      const auto& f = table1(fault);
+      const double t_on = 40.0, ramp = 30.0;
+      rig.run(t_on + ramp + 20.0, [&](double t, int b) {
+        if (b != 0 || t < t_on) return h;
+        const double alpha = std::min(1.0, (t - t_on) / ramp);
+        return Signature{"", h.omega_n + alpha * (f.omega_n - h.omega_n), h.zeta + alpha * (f.zeta - h.zeta)};
+      });
+      // THEN the first event names the fault, never the other reading, within 10 s of the ramp's end
+      ASSERT_FALSE(rig.events.empty()) << fault << " seed " << seed;
+      const auto& e = rig.events.front();
+      EXPECT_EQ(e.component, "pitch_actuator_1");
+      EXPECT_EQ(e.fault, fault) << "seed " << seed << " at " << e.t << ": " << e.detail;
+      EXPECT_LE(e.t, t_on + ramp + 10.0) << fault << " seed " << seed;
+      for (const auto& x : rig.events) EXPECT_EQ(x.fault, fault) << "seed " << seed << " at " << x.t;
+    }
+}
+
 TEST(PitchDiagnoser, APointPastThePumpWearSignatureIsTheLeak) {
   // GIVEN blade 3's dynamics jumping at 40 s to a point past the pump-wear signature on the shared path (pump
   // wear at alpha 1.2, leakage at 0.6: where the demo's estimate of an abrupt leak sat for 4 s), then on
