@@ -210,7 +210,8 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) 
     // suite's pump wear ramped in over 30 s was first raised as a leak in 4 of 26 runs. It is named by where
     // it goes next: past the pump-wear signature (past_short) a leak, staying there pump wear.
     // At the point within 0.1 below shared_alpha: noise about the crossing must not restart the settle clock.
-    const bool at_short = shared_reached_after_ >= 0.0 && alpha_short >= cfg_->shared_alpha - 0.1 && !past_short;
+    const bool at_short =
+        shared_reached_after_ >= 0.0 && alpha_short >= cfg_->shared_alpha - 0.1 && !past_short;
     settled_at_short_ = at_short ? settled_at_short_ + dt : 0.0;
     // Its pace is the second half of the way there (the healthy clock restarts on noise that looks healthy).
     const double pace = shared_reached_after_ >= 0.0 && half_reached_after_ >= 0.0

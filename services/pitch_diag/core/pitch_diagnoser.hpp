@@ -40,7 +40,7 @@ struct PitchDiagConfig {
                                  ///< goes past the pump-wear signature (leak) or stays at it for
                                  ///< shared_settle_time (pump wear). Slower: a developing leak
   double shared_settle_time = 8.0;  ///< s of excited data at the pump-wear point that settle a ramp as it
-  double shared_alpha = 0.8;     ///< alpha on the shorter (pump-wear) path that counts as reaching its point
+  double shared_alpha = 0.8;  ///< alpha on the shorter (pump-wear) path that counts as reaching its point
   double short_max_alpha =
       1.15;  ///< alpha on the shorter path beyond which a point not yet raised as that fault
              ///< is the longer path's, however fast it got there (past its own signature)
