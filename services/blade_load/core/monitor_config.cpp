@@ -52,6 +52,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "abrupt_ratio",
                         "abrupt_lookback",
                         "abrupt_span",
+                        "held_step_share",
                         "return_time",
                         "intermittent_window",
                         "clear_time",
@@ -123,6 +124,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   d.abrupt_ratio = y.get_number("abrupt_ratio", d.abrupt_ratio, 0.0, 1.0);
   d.abrupt_lookback = static_cast<int>(y.get_number("abrupt_lookback", d.abrupt_lookback, 1, 20));
   d.abrupt_span = static_cast<int>(y.get_number("abrupt_span", d.abrupt_span, 1, 10));
+  d.held_step_share = y.get_number("held_step_share", d.held_step_share, 0.0, 1.0);
   EpisodeConfig& e = c.episode;
   e.return_time = y.get_number("return_time", e.return_time, 0.1, 3600.0);
   e.intermittent_window = y.get_number("intermittent_window", e.intermittent_window, 1.0, 86400.0);

@@ -3,6 +3,7 @@
 #include "residual_channels.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include "frame_sample.hpp"
 
@@ -67,6 +68,13 @@ double residual_size(const BladeEstimates& e, int b, int c) {
                                                            b);
   if (c == kRawMeanChannel) size = e.mean_sensor[b] - avg_others(e.mean_sensor, b);
   return size;
+}
+
+double residual_share(const BladeEstimates& e, int b, int c) {
+  if (c < 0) return 0.0;
+  const bool mean = c == kMeanChannel || c == kRawMeanChannel;
+  const double reference = std::fabs(avg_others(mean ? e.mean_sensor : e.a_sensor, b));
+  return reference > 0.0 ? residual_size(e, b, c) / reference : std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace windfdi::blade_load

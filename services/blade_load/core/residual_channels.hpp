@@ -38,5 +38,8 @@ BladeChannels residual_channels(const BladeEstimates& e);
 /// A blade's fault size behind channel c in N m (0 for c < 0): what its gauge reads beyond the model or the
 /// other blades.
 double residual_size(const BladeEstimates& e, int blade, int c);
+/// That size as a share of what the other two blades read on the same quantity (first-harmonic amplitude or
+/// mean load); NaN when they read nothing.
+double residual_share(const BladeEstimates& e, int blade, int c);
 
 }  // namespace windfdi::blade_load

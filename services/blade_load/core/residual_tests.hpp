@@ -45,6 +45,10 @@ struct DetectionConfig {
              ///< this share of the critical value (the residual stepped), else drift (it ramped)
   int abrupt_lookback = 2;  ///< revolutions back where that mean starts (a step is confirmed within ~1.1)
   int abrupt_span = 4;      ///< revolutions in that mean (a step leaves it at 0 +- 0.5 in t units)
+  double held_step_share = 0.06;  ///< when most of those revolutions were held (a pitch or speed fault): a
+                                  ///< step if the excursion is at least this share of the other blades'
+                                  ///< reading (the smallest specified step is a 10 % gain), else a drift
+                                  ///< (1.5 %/min through a 2-minute hold is 3 %)
 };
 
 /// The tests of the three blades of one turbine, with the healthy statistics they compare with. Time and the

@@ -333,6 +333,46 @@ TEST(PlantDetection, AFastDriftFirstSeenByTheOutlierTestIsStillADrift) {
   EXPECT_LE(abrupt, 1);
 }
 
+TEST(PlantDetection, ADriftThatGrewThroughAHoldIsADriftAndAStepAStep) {
+  // GIVEN blade_load holding its judgement from 290 s to 400 s (+ context_hold) while sensor_bias reports
+  // blade 2's pitch sensor, and in that hold either a drift of 1.45 % of the mean load per minute or a 10 %
+  // gain on blade 1 from 300 s, at 12 and 16 m/s, two seeds (suite seeds 35-37: 5 of 5 drifts that grew
+  // through a pitch or speed fault's hold were named sensor_abrupt: the revolutions before the detection,
+  // which tell a ramp from a step, were held)
+  for (const char* type : {"drift", "gain"})
+    for (double wind : {12.0, 16.0})
+      for (uint64_t seed : {3u, 8u}) {
+        auto f = fault("blade_moment_1", type, 300.0);
+        f.rate = 1300.0;
+        f.gain = 1.1;
+        plant::TurbineScenario t;
+        t.id = "WT01";
+        t.wind.mean = wind;
+        t.wind.turbulence_intensity = 0.08;
+        t.wind.shear_exponent = 0.2;
+        plant::TurbineSim sim(TurbineParams{}, t, {f}, seed, 100.0);
+        BladeLoadMonitor m(config(), LoadTable::load_csv(kTable));
+        std::vector<FaultEvent> events;
+        for (int k = 0; k < 520 * 100; ++k) {
+          const FrameSample s = sim.step();
+          if (k == 290 * 100 || k == 400 * 100) {
+            InputContext context;
+            context.pitch_sensor_suspect[1] = k == 290 * 100;
+            m.set_context(context, s.t);
+          }
+          m.update(s, false, events);
+        }
+        // THEN blade 1 is raised once the hold is over, with the fault's own class first
+        const FaultEvent* e = first_raised(events, "blade_moment_sensor_1", 300.0);
+        std::printf("[measured] %s through a hold, %g m/s seed %llu: %s\n", type, wind,
+                    static_cast<unsigned long long>(seed), event_sequence(events).c_str());
+        ASSERT_NE(e, nullptr) << type << " " << wind << " " << seed;
+        EXPECT_GE(e->t, 400.0) << type << " " << wind << " " << seed;
+        EXPECT_EQ(e->fault, std::string(type) == "drift" ? "sensor_drift" : "sensor_abrupt")
+            << wind << " " << seed << ": " << e->detail;
+      }
+}
+
 TEST(PlantDetection, IntermittentFaultClassifiedAsIntermittent) {
   // GIVEN the sensor_intermittent scenario's fault (gain 1.3, 30 % of a 20 s period: on 6 s, off 14 s) on
   // blade 3 at 400 s
