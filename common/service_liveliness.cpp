@@ -7,19 +7,14 @@ void ServiceLiveliness::on_health(const Writer& writer, const std::string& turbi
                                   const std::string& service, std::vector<ServiceChange>& changes) {
   const Key key{turbine_id, service};
   if (!writers_[writer].insert(key).second) return;
-  auto& live = alive_[key];
-  if (live.empty()) changes.push_back({turbine_id, service, true});
-  live.insert(writer);
+  if (live_writers_[key]++ == 0) changes.push_back({turbine_id, service, true});
 }
 
 void ServiceLiveliness::on_writer_lost(const Writer& writer, std::vector<ServiceChange>& changes) {
   auto it = writers_.find(writer);
   if (it == writers_.end()) return;
-  for (const auto& key : it->second) {
-    auto& live = alive_[key];
-    live.erase(writer);
-    if (live.empty()) changes.push_back({key.first, key.second, false});
-  }
+  for (const auto& key : it->second)
+    if (--live_writers_[key] == 0) changes.push_back({key.first, key.second, false});
   writers_.erase(it);
 }
 

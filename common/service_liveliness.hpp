@@ -40,7 +40,7 @@ class ServiceLiveliness {
  private:
   using Key = std::pair<std::string, std::string>;  // (turbine, service)
   std::map<Writer, std::set<Key>> writers_;
-  std::map<Key, std::set<Writer>> alive_;
+  std::map<Key, int> live_writers_;  // how many of writers_ speak for it
 };
 
 }  // namespace windfdi

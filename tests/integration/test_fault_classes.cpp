@@ -32,18 +32,11 @@ struct Farm {
   ChildProcess* configs = nullptr;
   ChildProcess* arbiter = nullptr;
 
-  /// `arbiter_yaml`: the arbiter's configuration (default: the shipped one).
-  explicit Farm(int salt, const std::string& arbiter_yaml = "")
-      : domain(private_domain(salt)), env(dds_env(domain)) {
+  explicit Farm(int salt) : domain(private_domain(salt)), env(dds_env(domain)) {
     dir = temp_dir("fault_classes_" + std::to_string(domain));
     db = dir + "/farm.sqlite";
-    std::string arbiter_config = kDeploy + "/config/arbiter.yaml";
-    if (!arbiter_yaml.empty()) {
-      arbiter_config = dir + "/arbiter.yaml";
-      std::ofstream(arbiter_config) << arbiter_yaml;
-    }
     start({bin("windfdi-farm"), "--db", db, "--table-period", "0"}, "farm");
-    arbiter = &start({bin("windfdi-arbiter"), "--config", arbiter_config}, "arbiter");
+    arbiter = &start({bin("windfdi-arbiter"), "--config", kDeploy + "/config/arbiter.yaml"}, "arbiter");
     configs = &start({bin("windfdi-test-peer"), "configs", "--timeout", "600"}, "configs");
   }
   ~Farm() {

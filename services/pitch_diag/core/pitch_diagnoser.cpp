@@ -217,11 +217,10 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) 
     const double pace = shared_reached_after_ >= 0.0 && half_reached_after_ >= 0.0
                             ? shared_reached_after_ - half_reached_after_
                             : 1e300;
-    const bool fast = shared_reached_after_ >= 0.0 && shared_reached_after_ <= cfg_->abrupt_time &&
-                      pace <= cfg_->abrupt_pace;
+    // (A finite pace means the point was reached.)
+    const bool fast = shared_reached_after_ <= cfg_->abrupt_time && pace <= cfg_->abrupt_pace;
     const bool ramp = !fast && pace <= cfg_->ramp_time;
-    const bool abrupt = shared_reached_after_ >= 0.0 && !past_short &&
-                        (fast || (ramp && settled_at_short_ >= cfg_->shared_settle_time));
+    const bool abrupt = !past_short && (fast || (ramp && settled_at_short_ >= cfg_->shared_settle_time));
     // On its way to the point, within ramp_time of half-way, it may still be either.
     const bool on_its_way = shared_reached_after_ < 0.0 && half_reached_after_ >= 0.0 &&
                             excited_since_healthy_ - half_reached_after_ <= cfg_->ramp_time;
