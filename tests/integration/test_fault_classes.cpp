@@ -329,8 +329,12 @@ TEST_P(RestartedService, ARestartOnARunningTurbineRaisesNothingAndTheRealFaultIs
     stopped = true;
     EXPECT_GE(t, 150.0) << c.dump();
   }
-  EXPECT_EQ(derated, r.loss_noticed) << farm.configs->stdout_text();
-  EXPECT_EQ(normal_again, r.loss_noticed) << farm.configs->stdout_text();
+  // A restart 0.8 s after the kill is usually seen before the old writer's 3 s lease runs out (no derate at
+  // all), but not always on a loaded machine (CI once saw the loss first): then the derate must be withdrawn
+  // as after any loss. The defect this guards against left it on for good.
+  std::cout << "[ measured ] loss seen by the arbiter: " << (derated ? "yes" : "no") << "\n";
+  if (r.loss_noticed) EXPECT_TRUE(derated) << farm.configs->stdout_text();
+  EXPECT_EQ(normal_again, derated) << farm.configs->stdout_text();
   EXPECT_TRUE(stopped) << farm.configs->stdout_text() << farm.logs();
 }
 
