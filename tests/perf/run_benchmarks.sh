@@ -9,6 +9,8 @@ for b in "$bin"/bench_*; do
 done
 echo "== pitch_diag_plant"
 "$bin/pitch_diag_plant" 3600
+echo "== pitch_diag_slow_swing"
+"$bin/pitch_diag_slow_swing" 3 1200
 echo "== ice_detect_plant"
 "$bin/ice_detect_plant" 3600 3
 # The whole system's healthy hours (ten at each of 8, 12, 16 and 20 m/s) on both shipped turbines.

@@ -50,6 +50,17 @@ struct IdentifierConfig {
                                 ///< only evidence_min decides; the estimate then drifts while unexcited)
   double evidence_min = 25.0;  ///< bank: log-likelihood ratio (V_healthy - V_best) / sigma^2 a fault decision
                                ///< needs (25: 5 sigma against the healthy actuator); 0 disables
+  double information_min =
+      0.0002;  ///< bank: deg^2, windowed mean square difference between the healthy
+               ///< model's output and the nearest fault signature's (both driven by the
+               ///< reference) above which the bank learns even when eq 20 fails: a slow
+               ///< swing tells the models apart though it excites no 4-parameter fit. 0: off
+  double information_ref = 0.03;  ///< bank: deg^2; while eq 20 fails, the residual memory is bank_lambda's
+                                  ///< times information_ref / that difference (the same information, not the
+                                  ///< same seconds, is remembered). 0: memory in seconds only
+  double evidence_max = 10.0;     ///< bank: while the memory is stretched (above), the most evidence for the
+                               ///< healthy actuator against any model that is kept, in sigma^2 (a fault must
+                               ///< undo it before its own evidence counts). 0: unbounded
   double decide_alpha = 0.25;  ///< bank: best models from this alpha are fault decisions (the classifier's
                                ///< alpha_detect; set by the loader)
   std::vector<Signature> signatures = table1_signatures();  ///< bank paths ([0] healthy)
@@ -78,8 +89,15 @@ class Identifier {
   /// Current estimate (for the bank: the refined best model, computed on demand).
   Theta theta() const;
   ContinuousModel model() const { return continuous_from_theta(theta(), cfg_.T); }
-  /// Eq 20 held over the last window (the estimate is being updated); false: held.
-  bool excited() const { return excited_; }
+  /// Eq 20 held over the last window (the estimate is being updated), or for the bank its information test;
+  /// false: held.
+  bool excited() const { return excited_ || info_excited_; }
+  /// Bank: the share (0..1) of information_ref the last window carried (1 when information_ref is 0): the
+  /// residual memory is bank_lambda's divided by it.
+  double information_weight() const { return info_weight_; }
+  /// Bank: the windowed mean square output difference between the healthy model and the nearest signature
+  /// (deg^2; 0 unless information_min or information_ref is set).
+  double information() const { return info_mean_; }
   /// A decision may be taken on the current estimate: eq 20 held (paper and RLS modes; the bank when
   /// bank_pe_gate), settled, and for a bank fault decision (best alpha >= decide_alpha) evidence() >=
   /// evidence_min.
@@ -87,6 +105,9 @@ class Identifier {
   /// Bank: (V_healthy - V_best) / sigma^2, sigma^2 = V_best / W the best model's mean square residual: the
   /// log-likelihood ratio of the best model against the healthy actuator. Other methods: 0.
   double evidence() const;
+  /// Bank: (V_signature - V_best) / sigma^2, the evidence against the signature (alpha 1) of fault path
+  /// `path` (0-based, signatures[path + 1]) in favour of the best model. Other methods: infinite.
+  double evidence_against_signature(int path) const;
   /// Smallest eigenvalue of the eq 20 matrix (deg^2); computed on demand.
   double excitation() const;
   const IdentifierConfig& config() const { return cfg_; }
@@ -95,7 +116,7 @@ class Identifier {
 
  private:
   void identify(double uf, double yf);
-  void bank_step(double yf, bool learn);
+  void bank_step(double yf, bool settled);
 
   IdentifierConfig cfg_;
   Theta theta0_;
@@ -134,6 +155,10 @@ class Identifier {
   // Bank: structure of arrays (vectorised over the models).
   Eigen::ArrayXd ba1_, ba2_, bb1_, bb2_, bx1_, bx2_, bV_;
   double bW_ = 0.0;             // sum of the forgetting weights of bV_ (its sample count)
+  double info_mean_ = 0.0;      // windowed mean square healthy-to-nearest-signature output difference (deg^2)
+  bool info_excited_ = false;   // info_mean_ >= information_min (bank)
+  double info_weight_ = 1.0;    // see information_weight()
+  std::vector<int> bends_;      // index of each path's signature model (alpha = 1)
   std::vector<int> bpath_;      // path index of each model (-1 healthy)
   std::vector<double> balpha_;  // alpha of each model
 };
