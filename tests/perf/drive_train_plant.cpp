@@ -1,7 +1,8 @@
 // Measures windfdi-drive-train against the benchmark's converter torque offset and drive-train efficiency
 // loss on the two-mass plant in turbulent wind (12 %), fed sample by sample as the service feeds it: false
 // alarms in healthy hours, delay and size of a 100 N m torque offset, delay and estimate of a 0.97 -> 0.92
-// efficiency. Usage: drive_train_plant [healthy_hours_per_wind=10] [seeds=3] [--config FILE] [--events]
+// efficiency. Usage: drive_train_plant [healthy_hours_per_wind=10] [seeds=3] [--config FILE] [--turbine FILE]
+// [--events]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -91,7 +92,7 @@ int main(int argc, char** argv) {
   const double hours = args.first;
   const int seeds = args.seeds;
   print_events = args.print_events;
-  const TurbineParams p;
+  const TurbineParams p = args.turbine();
   const DiagnoserConfig cfg = load_diagnoser_config(args.config(), p);
 
   std::printf(

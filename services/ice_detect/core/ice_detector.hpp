@@ -42,11 +42,20 @@ struct DetectorConfig {
       0.5;                     ///< rad/s, excitation the fast estimator needs (its estimates are noisier)
   double shed_median = 15;     ///< 1 Hz fast estimates in its running median
   double shed_confirm = 45.0;  ///< s the drop must hold
+  double shed_confirm_min =
+      15.0;  ///< s a drop of shed_confirm / shed_confirm_min times its threshold must hold
   double shed_fraction =
-      0.05;  ///< drop of the fast estimate below the slow one, share of J0, for ice_shedding
-  double shed_min_rise = 0.0137;  ///< inertia rise (500 kg on the benchmark rotor) that must be estimated,
-                                  ///< with ice_accretion raised, to shed
-  double shed_hold = 60.0;        ///< s an ice_shedding report stays raised
+      0.05;  ///< drop of the fast estimate below the slow one, share of J0, for ice_shedding while the fast
+             ///< estimate's noise is not yet learned (and always when shed_sigmas is 0)
+  double shed_sigmas = 4.0;  ///< once learned, the drop needed is this many of the fast estimate's own
+                             ///< standard deviations about the reported one (0: shed_fraction always)
+  double shed_fraction_min = 0.025;  ///< but never less than this share of J0
+  double shed_slow_sigmas = 0.0;     ///< the slow route's fall needs this many of the same deviations, and at
+                                     ///< least shed_fraction (0: shed_fraction alone)
+  double shed_noise_time = 1800.0;   ///< s, memory of that learned deviation; learned after a sixth of it
+  double shed_min_rise = 0.0137;     ///< inertia rise (500 kg on the benchmark rotor) that must be estimated,
+                                     ///< with ice_accretion raised, to shed
+  double shed_hold = 60.0;           ///< s an ice_shedding report stays raised
   double shed_slow_window =
       300.0;  ///< s: the reported estimate itself fell shed_fraction of J0 below its highest fresh value
               ///< within this, from reported ice: ice_shedding (the rotor whose ice changes no Cp, whose fast
@@ -69,6 +78,8 @@ struct InertiaOutput {
   double inertia_clean = 0.0;  ///< J0
   double ice_mass = 0.0;       ///< kg
   bool excited = false;
+  double shed_inertia =
+      0.0;  ///< kg m^2, the fast estimator's median that watches for shedding, 0 when not live
 };
 
 /// One turbine: samples in (with their aerodynamic power), estimates and fault events out.
@@ -89,6 +100,9 @@ class IceDetector {
   uint64_t suspect_samples() const { return suspect_samples_; }
   void set_context(const InputContext& context) { context_ = context; }
   const InertiaEstimator& estimator() const { return estimator_; }
+  /// The drop (share of J0) the fast shedding route needs now: shed_sigmas learned deviations of the fast
+  /// estimate about the reported one (at least shed_fraction_min), or shed_fraction until they are learned.
+  double shed_threshold() const;
 
  private:
   void second(double t, std::vector<FaultEvent>& events);
@@ -104,6 +118,8 @@ class IceDetector {
   double shed_since_ = -1.0;
   double shed_reference_ = 0.0, fast_before_ = 0.0;     // kg m^2: see the drop's reference
   std::deque<std::pair<double, double>> fast_history_;  // (t, fast estimate) of the last 90 s
+  double fast_deviation_ = 0.0;  // mean |fast - reported| / J0 of quiet seconds (shed_noise_time memory)
+  double fast_learned_ = 0.0;    // s of it
   struct SlowPoint {
     double t, inertia;
     bool iced;  // ice was reported then at severity fault or above
