@@ -1,8 +1,8 @@
 // Measures windfdi-pitch-diag's methods (Wu & Li paper modes and the default) on the same plant recordings:
 // detection delay of abrupt Table 1 faults in region 3 and false alarms in healthy hours, with the
-// benchmark's 0.2 deg pitch noise. Usage: pitch_diag_plant [healthy_seconds=3600] [method ...] (default:
-// every method); VERBOSE=1 lists the runs that were missed, wrong or slower than 10 s; PITCH_DIAG_CONFIG=file
-// starts every method from that pitch_diag YAML section instead of the defaults.
+// benchmark's 0.2 deg pitch noise. Usage: pitch_diag_plant [healthy_seconds=3600] [--turbine FILE] [method
+// ...] (default: every method); VERBOSE=1 lists the runs that were missed, wrong or slower than 10 s;
+// PITCH_DIAG_CONFIG=file starts every method from that pitch_diag YAML section instead of the defaults.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -20,6 +20,8 @@ using namespace windfdi::pitch_diag;
 
 namespace {
 
+TurbineParams turbine;  // the plant's turbine (--turbine FILE; default the benchmark 4.8 MW one)
+
 // One recording: the plant's measured samples (so every method sees exactly the same data).
 std::vector<FrameSample> record(double wind, double seconds, const std::vector<plant::FaultSpec>& faults,
                                 uint64_t seed) {
@@ -28,7 +30,7 @@ std::vector<FrameSample> record(double wind, double seconds, const std::vector<p
   t.wind.mean = wind;
   t.wind.turbulence_intensity = 0.12;
   t.wind.shear_variation = 0.03;
-  plant::TurbineSim sim(TurbineParams{}, t, faults, seed, 100.0);
+  plant::TurbineSim sim(turbine, t, faults, seed, 100.0);
   std::vector<FrameSample> out(static_cast<std::size_t>(seconds * 100.0));
   for (auto& s : out) s = sim.step();
   return out;
@@ -54,7 +56,7 @@ std::vector<FaultEvent> diagnose(const PitchDiagConfig& cfg, const std::vector<F
 double first_information(const std::vector<FrameSample>& rec, int blade, double t_on,
                          const Signature& healthy, const Signature& fault) {
   // The plant's own actuator (RK4, with the turbine's rate and angle limits), one per hypothesis.
-  const TurbineParams p;
+  const TurbineParams& p = turbine;
   plant::PitchActuator h, f;
   auto step = [&](plant::PitchActuator& a, double u, double dt, const Signature& sig) {
     a.step(u, dt, sig.omega_n, sig.zeta, p.pitch_rate_limit, p.pitch_min, p.pitch_max);
@@ -92,6 +94,10 @@ int main(int argc, char** argv) {
   const bool verbose = std::getenv("VERBOSE") != nullptr;
   std::vector<Method> methods;
   for (int i = 2; i < argc; ++i) {
+    if (std::string(argv[i]) == "--turbine" && i + 1 < argc) {
+      turbine = load_turbine_params_file(argv[++i]);
+      continue;
+    }
     Method m;
     if (!parse_method(argv[i], m)) {
       std::fprintf(stderr, "unknown method %s\n", argv[i]);

@@ -7,29 +7,44 @@ for b in "$bin"/bench_*; do
   echo "== $(basename "$b")"
   "$b" --benchmark_counters_tabular=true
 done
-echo "== pitch_diag_plant"
+turbine2=$top/deploy/turbine/example_2MW.yaml
+echo "== pitch_diag_plant, benchmark 4.8 MW turbine"
 "$bin/pitch_diag_plant" 3600
+echo "== pitch_diag_plant, example 2 MW turbine"
+"$bin/pitch_diag_plant" 3600 --turbine "$turbine2" bank
 echo "== pitch_diag_slow_swing"
 "$bin/pitch_diag_slow_swing" 3 1200
-echo "== ice_detect_plant"
+echo "== ice_detect_plant, benchmark 4.8 MW turbine"
 "$bin/ice_detect_plant" 3600 3
-# The whole system's healthy hours (ten at each of 8, 12, 16 and 20 m/s) on both shipped turbines.
+echo "== ice_detect_plant, example 2 MW turbine"
+"$bin/ice_detect_plant" 3600 3 --turbine "$turbine2"
+echo "== ice_detect_plant, example 2 MW turbine, the plant's aerodynamic power (no anemometer noise)"
+AERO_POWER=1 "$bin/ice_detect_plant" 3600 3 --turbine "$turbine2"
+# The whole system's healthy hours (ten at each of 8, 12, 16 and 20 m/s) and fault delays (ten multi-fault
+# scenarios) on both shipped turbines.
 healthy=$(mktemp -d)
 trap 'rm -rf "$healthy"' EXIT
-turbine2=$top/deploy/turbine/example_2MW.yaml
 suite=$top/tests/perf/multi_fault_suite.py
+two_mw=(--set blade_load.turbine_file="$turbine2" --set drive_train.turbine_file="$turbine2"
+  --set ice_detect.turbine_file="$turbine2" --set sensor_bias.turbine_file="$turbine2"
+  --set sensor_bias.drive_train_gains="$top/deploy/sensor_bias/gains_drive_train_observer_2MW.yaml"
+  --set blade_load.load_table_file="$top/deploy/turbine/example_2MW_load_table.csv")
 echo "== healthy hours, benchmark 4.8 MW turbine"
 python3 "$suite" generate --healthy --seed 5 --count 10 --out "$healthy/4.8MW" >/dev/null
 python3 "$suite" run "$healthy/4.8MW" --mode fast --work "$healthy/w4.8MW" | tail -n 4
 echo "== healthy hours, example 2 MW turbine"
 python3 "$suite" generate --healthy --seed 5 --count 10 --turbine-file "$turbine2" --out "$healthy/2MW" >/dev/null
-python3 "$suite" run "$healthy/2MW" --mode fast --work "$healthy/w2MW" \
-  --set blade_load.turbine_file="$turbine2" --set drive_train.turbine_file="$turbine2" \
-  --set ice_detect.turbine_file="$turbine2" --set sensor_bias.turbine_file="$turbine2" \
-  --set sensor_bias.drive_train_gains="$top/deploy/sensor_bias/gains_drive_train_observer_2MW.yaml" \
-  --set blade_load.load_table_file="$top/deploy/turbine/example_2MW_load_table.csv" | tail -n 6
-echo "== drive_train_plant"
+python3 "$suite" run "$healthy/2MW" --mode fast --work "$healthy/w2MW" "${two_mw[@]}" | tail -n 6
+echo "== fault delays (multi-fault suite), benchmark 4.8 MW turbine"
+python3 "$suite" generate --seed 6 --count 10 --out "$healthy/f4.8MW" >/dev/null
+python3 "$suite" run "$healthy/f4.8MW" --mode fast --work "$healthy/wf4.8MW" | grep -v '^scenario_'
+echo "== fault delays (multi-fault suite), example 2 MW turbine"
+python3 "$suite" generate --seed 6 --count 10 --turbine-file "$turbine2" --out "$healthy/f2MW" >/dev/null
+python3 "$suite" run "$healthy/f2MW" --mode fast --work "$healthy/wf2MW" "${two_mw[@]}" | grep -v '^scenario_'
+echo "== drive_train_plant, benchmark 4.8 MW turbine"
 "$bin/drive_train_plant" 10 5
+echo "== drive_train_plant, example 2 MW turbine"
+"$bin/drive_train_plant" 10 5 --turbine "$turbine2"
 echo "== system_latency"
 "$top/tests/perf/system_latency.sh" 10 90
 echo "== farm_capacity"

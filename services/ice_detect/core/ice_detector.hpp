@@ -30,9 +30,9 @@ struct DetectorConfig {
   double critical_margin = 0.2;   ///< the stop level needs an estimate this share above critical_rise: the
                                   ///< estimate's error (1-4 % of inertia) must not stop a rotor below it
   double critical_confirm_time = 60.0;  ///< s of fresh (excited) estimates above it before critical is raised
-  double confirm_time = 10.0;           ///< s a level must hold before it is raised
-  double clear_time = 30.0;             ///< s below the clear level before a raised level clears
-  double clear_ratio = 0.7;             ///< a level clears below this share of its threshold (hysteresis)
+  double confirm_time = 10.0;  ///< s of fresh estimates, from a half-full median, above a level to raise it
+  double clear_time = 30.0;    ///< s below the clear level before a raised level clears
+  double clear_ratio = 0.7;    ///< a level clears below this share of its threshold (hysteresis)
   double shed_power_step =
       0.01;                   ///< rise of the power model's calibration in one step that is shedding (0: off)
   double ice_cp_loss = 0.02;  ///< share of Cp an iced rotor loses per tonne (sizes a shedding from its Cp)
@@ -45,14 +45,14 @@ struct DetectorConfig {
   double shed_confirm_min =
       15.0;  ///< s a drop of shed_confirm / shed_confirm_min times its threshold must hold
   double shed_fraction =
-      0.05;  ///< drop of the fast estimate below the slow one, share of J0, for ice_shedding while the fast
-             ///< estimate's noise is not yet learned (and always when shed_sigmas is 0)
-  double shed_sigmas = 4.0;  ///< once learned, the drop needed is this many of the fast estimate's own
-                             ///< standard deviations about the reported one (0: shed_fraction always)
-  double shed_fraction_min = 0.025;  ///< but never less than this share of J0
+      0.05;  ///< drop of the fast estimate below the slow one, share of J0, for ice_shedding
+  double shed_sigmas =
+      4.0;  ///< a fast estimate quiet enough lowers that drop to this many of its learned standard
+            ///< deviations about the reported one (never raises it; 0: shed_fraction always)
+  double shed_fraction_min = 0.025;  ///< the lowered drop is never below this share of J0
   double shed_slow_sigmas = 0.0;     ///< the slow route's fall needs this many of the same deviations, and at
                                      ///< least shed_fraction (0: shed_fraction alone)
-  double shed_noise_time = 1800.0;   ///< s, memory of that learned deviation; learned after a sixth of it
+  double shed_noise_time = 1800.0;   ///< s, memory of that learned deviation; used after a third of it
   double shed_min_rise = 0.0137;     ///< inertia rise (500 kg on the benchmark rotor) that must be estimated,
                                      ///< with ice_accretion raised, to shed
   double shed_hold = 60.0;           ///< s an ice_shedding report stays raised
@@ -137,6 +137,8 @@ class IceDetector {
   // Accretion: the raised severity level (0 none, 1 warning, 2 fault, 3 critical) and its timers.
   int raised_level_ = 0;
   double above_since_ = -1.0, below_since_ = -1.0;
+  double above_fresh_ =
+      0.0;  // fresh seconds above the next level since above_since_ (from a half-full median)
   double critical_evidence_ = 0.0;  // s of fresh estimates above the stop level in the current run
   bool fresh_ = false;              // this second's estimate entered the median
   double shed_raised_at_ = -1.0;

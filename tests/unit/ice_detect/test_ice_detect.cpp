@@ -122,17 +122,28 @@ struct PlantRun {
   double shed_threshold = 0.0;  // the fast route's drop threshold at the end (share of J0)
 };
 
+PlantRun run_turbine(const plant::TurbineScenario& t, int seconds, bool model_power,
+                     const std::vector<plant::FaultSpec>& faults, uint64_t seed, const YamlSection& config,
+                     const InputContext& context, const TurbineParams& p);
+
 PlantRun run_plant(double wind, int seconds, bool model_power,
                    const std::vector<plant::FaultSpec>& faults = {}, double ice = 0.0, uint64_t seed = 7,
                    const YamlSection& config = defaults(), const InputContext& context = {},
                    const TurbineParams& p = TurbineParams{}) {
-  AeroModel aero(p);
   plant::TurbineScenario t;
   t.id = "WT01";
   t.wind.mean = wind;
   t.wind.turbulence_intensity = 0.12;
   t.wind.shear_variation = 0.05;
   t.ice_mass = ice;
+  return run_turbine(t, seconds, model_power, faults, seed, config, context, p);
+}
+
+/// One turbine of the plant as a scenario describes it (its id is part of its random streams).
+PlantRun run_turbine(const plant::TurbineScenario& t, int seconds, bool model_power,
+                     const std::vector<plant::FaultSpec>& faults, uint64_t seed, const YamlSection& config,
+                     const InputContext& context, const TurbineParams& p) {
+  AeroModel aero(p);
   plant::TurbineSim sim(p, t, faults, seed, 100.0);
   const DetectorConfig cfg = load_detector_config(config, p);
   IceDetector det(cfg, p);
@@ -336,16 +347,34 @@ TEST(IceDetector, TheSheddingThresholdIsLearnedFromTheFastEstimatesOwnNoise) {
       p.lumped_inertia() * p.gear_ratio * p.gear_ratio / (p.ice_radius * p.ice_radius);
   const auto noisy = run_plant(10.0, 3000, true, {}, 0.082 * kg_per_share, 910, defaults(), {}, p);
   const auto clean = run_plant(10.0, 3000, false, {}, 0.082 * kg_per_share, 910, defaults(), {}, p);
-  // THEN the threshold each learned is shed_sigmas deviations: several % of J0 on the anemometer, the floor
-  // shed_fraction_min on the clean signal, and neither raised a shedding
-  ASSERT_GT(noisy.shed_threshold, 0.0);
+  // THEN the anemometer's noise (4 deviations are ~10 % of J0) leaves the fixed shed_fraction (the learned
+  // noise only lowers it), the clean signal's lowers it to the floor shed_fraction_min, and neither raised a
+  // shedding
   std::printf(
       "[measured] learned shedding threshold, 2 MW iced at 10 m/s: %.2f %% (anemometer), %.2f %% (clean)\n",
       100.0 * noisy.shed_threshold, 100.0 * clean.shed_threshold);
-  EXPECT_GT(noisy.shed_threshold, 0.05);
-  EXPECT_NEAR(clean.shed_threshold, 0.025, 0.005);
+  EXPECT_DOUBLE_EQ(noisy.shed_threshold, 0.05);
+  EXPECT_DOUBLE_EQ(clean.shed_threshold, 0.025);
   EXPECT_EQ(shedding_raised(noisy, 0.0, 3000.0), nullptr) << describe(noisy);
   EXPECT_EQ(shedding_raised(clean, 0.0, 3000.0), nullptr) << describe(clean);
+}
+
+TEST(IceDetector, AFewExcitedSecondsHeldThroughACalmSpellRaiseNoIce) {
+  // GIVEN the example 2 MW turbine's clean rotor at 20 m/s as the multi-fault suite's healthy scenario 40_08
+  // runs it (TI 0.10, turbine WT04, seed 40008): pitch control holds its speed so well that the regression is
+  // excited for a few seconds in the first 20 minutes, and their median, +8.3 %, is then held for 1400 s
+  const TurbineParams p =
+      load_turbine_params_file(std::string(WINDFDI_SOURCE_DEPLOY_DIR) + "/turbine/example_2MW.yaml");
+  plant::TurbineScenario t;
+  t.id = "WT04";
+  t.wind.mean = 20.0;
+  t.wind.turbulence_intensity = 0.10;
+  t.wind.shear_exponent = 0.2;
+  t.wind.shear_variation = 0.05;
+  const auto r = run_turbine(t, 1800, true, {}, 40008, defaults(), {}, p);
+  // THEN no ice is raised: a level needs confirm_time of fresh estimates from a median at least half full
+  // (it was raised at severity fault 10 s after those seconds)
+  EXPECT_TRUE(r.events.empty()) << describe(r);
 }
 
 TEST(IceDetector, FastAccretionDoesNotOvershootIntoCritical) {
