@@ -3,7 +3,9 @@
 // whose first event is the right class on the right blade, the delay from the onset and from the moment the
 // data first carry the fault (an oracle's 5 sigma), and false events on healthy files (also in their first
 // 5 s). Usage: pitch_diag_slow_swing [seeds_per_blade=2] [healthy_seconds=600]; PITCH_DIAG_CONFIG=file reads
-// the diagnoser from that pitch_diag YAML section instead of the defaults; VERBOSE=1 lists every run.
+// the diagnoser from that pitch_diag YAML section instead of the defaults; VERBOSE=1 lists every run;
+// TRACE=seed prints that run's bank state (information, evidence, class, alpha) every 0.5 s from 5 s before
+// the onset.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -78,8 +78,6 @@ struct InertiaOutput {
   double inertia_clean = 0.0;  ///< J0
   double ice_mass = 0.0;       ///< kg
   bool excited = false;
-  double shed_inertia =
-      0.0;  ///< kg m^2, the fast estimator's median that watches for shedding, 0 when not live
 };
 
 /// One turbine: samples in (with their aerodynamic power), estimates and fault events out.
@@ -120,6 +118,8 @@ class IceDetector {
   std::deque<std::pair<double, double>> fast_history_;  // (t, fast estimate) of the last 90 s
   double fast_deviation_ = 0.0;  // mean |fast - reported| / J0 of quiet seconds (shed_noise_time memory)
   double fast_learned_ = 0.0;    // s of it
+  /// That deviation as a standard deviation (share of J0; Gaussian: sd = 1.2533 mean absolute deviation).
+  double fast_sd() const { return 1.2533 * fast_deviation_; }
   struct SlowPoint {
     double t, inertia;
     bool iced;  // ice was reported then at severity fault or above
