@@ -105,7 +105,7 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
 }
 
 double IceDetector::shed_threshold() const {
-  if (cfg_.shed_sigmas <= 0.0 || fast_learned_ < cfg_.shed_noise_time / 3.0) return cfg_.shed_fraction;
+  if (cfg_.shed_sigmas <= 0.0 || !noise_learned()) return cfg_.shed_fraction;
   // Lowered by a quiet fast estimate, never raised: on the plant's anemometer 4 deviations are ~10 % of J0 at
   // 8-12 m/s, and raising the threshold there halved the false sheddings but let the 2 MW rotor's real ones
   // wait for the slow route (101 -> 169 s in SecondTurbine.IceOnTheExample2MWTurbineIsJudgedByItsOwnInertia).
@@ -319,9 +319,8 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   // shed_slow_sigmas (off by default) holds its fall to the same learned noise: the 2 MW rotor's reported
   // estimate fell 5.0-6.8 % within 300 s 6 times in 9 hours of ice that stayed, but with it half the 2 MW
   // suite's real sheddings went unreported.
-  const double slow_threshold = fast_learned_ >= cfg_.shed_noise_time / 3.0
-                                    ? std::max(cfg_.shed_fraction, cfg_.shed_slow_sigmas * fast_sd())
-                                    : cfg_.shed_fraction;
+  const double slow_threshold =
+      noise_learned() ? std::max(cfg_.shed_fraction, cfg_.shed_slow_sigmas * fast_sd()) : cfg_.shed_fraction;
   if (!(fresh_ && settled && slow_peak > 0.0 && slow_peak - out_.inertia >= slow_threshold * j0_))
     slow_since_ = -1.0;
   else if (slow_since_ < 0.0)

@@ -99,7 +99,8 @@ class IceDetector {
   void set_context(const InputContext& context) { context_ = context; }
   const InertiaEstimator& estimator() const { return estimator_; }
   /// The drop (share of J0) the fast shedding route needs now: shed_sigmas learned deviations of the fast
-  /// estimate about the reported one (at least shed_fraction_min), or shed_fraction until they are learned.
+  /// estimate about the reported one, between shed_fraction_min and shed_fraction (shed_fraction until
+  /// learned).
   double shed_threshold() const;
 
  private:
@@ -120,6 +121,8 @@ class IceDetector {
   double fast_learned_ = 0.0;    // s of it
   /// That deviation as a standard deviation (share of J0; Gaussian: sd = 1.2533 mean absolute deviation).
   double fast_sd() const { return 1.2533 * fast_deviation_; }
+  /// It is used once a third of shed_noise_time of quiet seconds has been learned.
+  bool noise_learned() const { return fast_learned_ >= cfg_.shed_noise_time / 3.0; }
   struct SlowPoint {
     double t, inertia;
     bool iced;  // ice was reported then at severity fault or above

@@ -98,9 +98,7 @@ void Identifier::forget() {
   R_pe_.setZero();
   excited_ = cfg_.pe_threshold <= 0.0;
   pe_count_ = 0;
-  info_mean_ = 0.0;
-  info_excited_ = false;
-  info_weight_ = 1.0;
+  info_weight_ = 1.0;  // (info_mean_ and info_excited_: restart() below)
   if (cfg_.method == Method::kBank) {
     bV_ = Eigen::ArrayXd::Zero(ba1_.size());
     bx1_ = Eigen::ArrayXd::Zero(ba1_.size());
@@ -365,19 +363,22 @@ bool Identifier::decisive() const {
 }
 
 double Identifier::evidence() const {
-  if (cfg_.method != Method::kBank || bW_ <= 0.0) return 0.0;
+  if (cfg_.method != Method::kBank) return 0.0;
   // Log-likelihood ratio of the best model against the healthy one for Gaussian residuals of the best
   // model's variance: (V_healthy - V_best) / sigma^2 (0 when the healthy model is the best).
-  const double vb = bV_.minCoeff();
-  return (bV_(0) - vb) / std::max(vb / bW_, 1e-12);
+  return evidence_against(0);
 }
 
 double Identifier::evidence_against_signature(int path) const {
   if (cfg_.method != Method::kBank || path < 0 || path >= static_cast<int>(bends_.size()))
     return std::numeric_limits<double>::infinity();
+  return evidence_against(bends_[path]);
+}
+
+double Identifier::evidence_against(Eigen::Index model) const {
   if (bW_ <= 0.0) return 0.0;
   const double vb = bV_.minCoeff();
-  return (bV_(bends_[path]) - vb) / std::max(vb / bW_, 1e-12);
+  return (bV_(model) - vb) / std::max(vb / bW_, 1e-12);
 }
 
 double Identifier::excitation() const {

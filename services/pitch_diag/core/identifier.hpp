@@ -117,6 +117,8 @@ class Identifier {
  private:
   void identify(double uf, double yf);
   void bank_step(double yf, bool settled);
+  /// Bank: (V_model - V_best) / sigma^2, sigma^2 = V_best / W; 0 before any residual.
+  double evidence_against(Eigen::Index model) const;
 
   IdentifierConfig cfg_;
   Theta theta0_;
