@@ -24,6 +24,7 @@
 #include "input_context.hpp"
 #include "pitch_service.hpp"
 #include "replay.hpp"
+#include "replay_csv.hpp"
 #include "scenario.hpp"
 #include "sensor_bias_service.hpp"
 #include "turbine_sim.hpp"
@@ -37,6 +38,8 @@ struct Service {
   std::map<std::string, std::unique_ptr<TurbineDiagnoser>> turbines;
   std::map<std::string, InputContextTracker> contexts;
   std::map<std::string, InputContext> given;
+  std::unique_ptr<std::ofstream>
+      estimates;  // --estimates: this service's estimates as its replay writes them
 };
 
 struct Turbine {
@@ -133,6 +136,12 @@ int main(int argc, char** argv) {
       ->excludes(frames_option);
   app.add_option("--history", history_file, "write the history here (JSON Lines)")->required();
   app.add_option("--config-dir", config_dir, "service configurations (<service>.yaml)");
+  std::string record_file, estimates_of;
+  app.add_option("--estimates", estimates_of,
+                 "SERVICE=FILE: write that service's estimates here (the columns of its own --replay)");
+  app.add_option(
+      "--record", record_file,
+      "with --scenario: write the closed loop's frames here (a recording to replay one service on)");
   std::vector<std::string> settings;
   app.add_option(
       "--set", settings,
@@ -147,6 +156,17 @@ int main(int argc, char** argv) {
     std::vector<std::string> known{"arbiter"};
     for (const auto& s : services) known.push_back(s.spec.name);
     const std::vector<Setting> set = parse_settings(settings, known);
+    if (!estimates_of.empty()) {
+      const auto eq = estimates_of.find('=');
+      auto it = std::find_if(services.begin(), services.end(),
+                             [&](const Service& s) { return s.spec.name == estimates_of.substr(0, eq); });
+      if (eq == std::string::npos || it == services.end())
+        throw ConfigError("--estimates", 0, estimates_of, "expected SERVICE=FILE of a diagnostic service");
+      it->estimates = std::make_unique<std::ofstream>(estimates_of.substr(eq + 1));
+      *it->estimates << "t,turbine_id";
+      for (const auto& c : it->spec.estimate_columns) *it->estimates << "," << c;
+      *it->estimates << "\n";
+    }
     for (auto& s : services)
       s.spec.configure(with_settings(config_dir + "/" + s.spec.name + ".yaml", s.spec.name, set));
     const auto arbiter_config =
@@ -182,6 +202,11 @@ int main(int argc, char** argv) {
         ok &= d->update(s, gap, ev);
         std::vector<std::string> values;
         if (d->estimate_due(values)) {
+          if (svc.estimates) {
+            *svc.estimates << s.t << "," << id;
+            for (const auto& v : values) *svc.estimates << "," << v;
+            *svc.estimates << "\n";
+          }
           if (&svc == &bias) {
             turbine.control.corrected_generator_speed(std::stod(values.at(bias_corrected)), s.t);
           } else if (&svc == &ice) {
@@ -226,6 +251,8 @@ int main(int argc, char** argv) {
         sims.push_back(
             std::make_unique<plant::TurbineSim>(sc.turbine, t, sc.faults_of(t.id), sc.seed, sc.sample_rate));
       const auto n = static_cast<uint64_t>(std::llround(sc.duration * sc.sample_rate));
+      std::unique_ptr<FrameCsvWriter> recorder;
+      if (!record_file.empty()) recorder = std::make_unique<FrameCsvWriter>(record_file);
       for (uint64_t k = 0; k < n; ++k)
         for (auto& sim : sims) {
           auto it = turbines.find(sim->id());
@@ -234,6 +261,7 @@ int main(int argc, char** argv) {
           FrameSample s = sim->step(in);
           // Not measured on a real turbine (windfdi-plant records them only as truth).
           s.aero_torque = s.aero_power = kNaN;
+          if (recorder) recorder->write(sim->id(), s, {});
           process(sim->id(), s, false);
           ++samples;
         }
