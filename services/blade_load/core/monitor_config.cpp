@@ -32,6 +32,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "significance",
                         "drift_significance",
                         "drift_window",
+                        "drift_confirm_revolutions",
                         "learn_time",
                         "min_learn_revolutions",
                         "healthy_adapt_time",
@@ -98,6 +99,8 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   d.significance = y.get_number("significance", d.significance, 1e-12, 0.1);
   d.drift_significance = y.get_number("drift_significance", d.drift_significance, 1e-12, 0.1);
   d.drift_window = static_cast<int>(y.get_number("drift_window", d.drift_window, 2, 1000));
+  d.drift_confirm_revolutions =
+      static_cast<int>(y.get_number("drift_confirm_revolutions", d.drift_confirm_revolutions, 1, 100));
   LearningConfig& l = c.learning;
   l.learn_time = y.get_number("learn_time", l.learn_time, 10.0, 1e6);
   l.min_learn_revolutions =

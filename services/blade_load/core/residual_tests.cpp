@@ -141,6 +141,8 @@ void ResidualTests::drift_test(bool lidar_ok) {
     for (int c = 0; c < kChannels; ++c) dt[b][c] /= drift_noise_.scale(c);
   for (int b = 0; b < 3; ++b) {
     BladeState& B = blades_[b];
+    const int last_channel = B.drift_firing ? B.drift_channel : -1;
+    const bool last_positive = B.drift_t > 0;
     B.drift_firing = false;
     B.drift_channel = -1;
     double best = 0.0;
@@ -180,6 +182,8 @@ void ResidualTests::drift_test(bool lidar_ok) {
         B.drift_channel = c;
       }
     }
+    const bool same = B.drift_firing && B.drift_channel == last_channel && (B.drift_t > 0) == last_positive;
+    B.drift_revolutions = !B.drift_firing ? 0 : same ? B.drift_revolutions + 1 : 1;
   }
 }
 
@@ -282,7 +286,8 @@ void ResidualTests::blade_decision(int b, double t, bool outlier, bool outlier_c
   const bool active = outlier || drift_counts;
   // The moving-window test also reacts to a step (its window mean jumps): a step is the outlier test's to
   // classify, so the drift test raises only while the single-revolution values are still below threshold.
-  const bool by_drift = !outlier && drift_counts;
+  const bool by_drift = !outlier && drift_counts &&
+                        (B.drift_revolutions >= c_.drift_confirm_revolutions || B.raised == "sensor_drift");
   const bool confirmed = outlier_confirmed || by_drift;
   std::string cls = "sensor_drift";
   if (outlier_confirmed) {

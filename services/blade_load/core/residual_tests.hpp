@@ -24,6 +24,10 @@ struct DetectionConfig {
   double significance = 1e-8;        ///< two-sided level of the outlier t-test per 10 Hz sample (0..0.1)
   double drift_significance = 1e-8;  ///< two-sided level of the moving-window mean test per revolution
   int drift_window = 10;             ///< revolutions in the moving-window mean
+  /// Consecutive revolutions the moving-window test must fire on the same channel and sign before it raises
+  /// (1: at once). A drift keeps growing past the critical value; a slow excursion of the LIDAR model's
+  /// error or of the cross-blade mean touches it and falls back.
+  int drift_confirm_revolutions = 4;
   // Confirmation of an outlier run.
   double confirm_time = 1.0;  ///< s of continuous same-sign exceedance of one channel to raise (0.1..600)
   /// And at least this many revolutions (0..20): a single-revolution transient stays in the one-revolution
@@ -95,7 +99,8 @@ class ResidualTests {
     bool drift_firing = false;
     double drift_t = 0.0;
     int drift_channel = -1;
-    std::string raised;  // class raised, "" none (mirrors the classifier)
+    int drift_revolutions = 0;  // consecutive revolutions the drift test fired on drift_channel, same sign
+    std::string raised;         // class raised, "" none (mirrors the classifier)
     EpisodeClassifier episode;
   };
 

@@ -619,6 +619,82 @@ TEST(EpisodeClassifier, AbruptThenReturnThenRecurrenceIsIntermittentWithoutStorm
   EXPECT_EQ(k.raised(), "");
 }
 
+// The moving-window test on synthetic residuals: healthy noise learned, then a quiet spell where blade 1's
+// mean-load residual rises to a plateau of 12 revolutions whose 10-revolution mean is just above the drift
+// critical value for 3 revolutions (a slow excursion that touches it and falls back), then a ramp (a drift).
+struct DriftRun {
+  double excursion_raised_at = -1.0;  // s, first sensor_drift during the plateau (-1: none)
+  double ramp_raised_at = -1.0;       // s, first sensor_drift during the ramp
+};
+
+DriftRun run_drift_tests(int drift_confirm_revolutions) {
+  DetectionConfig d;
+  d.drift_confirm_revolutions = drift_confirm_revolutions;
+  ResidualTests tests(d, LearningConfig{}, EpisodeConfig{});
+  BladeEstimates e;
+  for (int b = 0; b < 3; ++b) {
+    e.sensor_valid[b] = e.model_valid[b] = true;
+    e.a_sensor[b] = e.a_model[b] = 1e5;
+    e.mean_sensor[b] = e.mean_model[b] = 1e6;
+  }
+  const double revolution_time = 4.0, learn_sd = 0.01;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  DriftRun run;
+  std::vector<FaultEvent> events;
+  double plateau = 0.0;  // set once learned
+  const int learn_revolutions = 60, quiet = 30, plateau_revolutions = 12, ramp_start = 150;
+  for (int k = 0; k < 260; ++k) {
+    const double t = k * revolution_time;
+    // After learning, a tenth of the learned noise: the window means follow the shape, not the noise.
+    const double sd = k < learn_revolutions ? learn_sd : 0.1 * learn_sd;
+    BladeChannels x;
+    for (auto& blade : x)
+      for (double& v : blade) v = sd * unit(rng);
+    const int into_plateau = k - (learn_revolutions + quiet);
+    double shift = 0.0;
+    if (into_plateau >= 0 && into_plateau < plateau_revolutions) shift = plateau;
+    if (k >= ramp_start) shift = 0.02 * plateau * (k - ramp_start);
+    // One gauge off: its own mean residual moves by the shift, the other blades' by half of it the other way.
+    x[0][kMeanChannel] += shift;
+    x[1][kMeanChannel] -= 0.5 * shift;
+    x[2][kMeanChannel] -= 0.5 * shift;
+    tests.revolution(t, revolution_time, x, true);
+    if (k == learn_revolutions) {
+      // 1.05 x the critical value of a 10-revolution mean (statistics.hpp) above the learned mean.
+      EXPECT_TRUE(tests.healthy().learned(kMeanChannel));
+      double ne = 1e9;
+      for (int b = 0; b < 3; ++b)
+        ne = std::min(ne, tests.healthy().at(b, kMeanChannel).n_eff(tests.healthy().at(b, kMeanChannel).n));
+      const double critical = student_t_critical(d.drift_significance, ne - 1.0);
+      const HealthyStats& h = tests.healthy().at(0, kMeanChannel);
+      plateau = h.mean + 1.05 * critical * h.drift_sd(d.drift_window);
+    }
+    for (int i = 0; i < 40; ++i) {
+      events.clear();
+      tests.tick(t + 0.1 * i, revolution_time, x, e, true, events);
+      for (const auto& ev : events)
+        if (ev.raised && ev.fault == "sensor_drift" && ev.component == "blade_moment_sensor_1") {
+          double& at = k < ramp_start ? run.excursion_raised_at : run.ramp_raised_at;
+          if (at < 0) at = t;
+        }
+    }
+  }
+  return run;
+}
+
+TEST(ResidualTests, AnExcursionThatTouchesTheDriftCriticalValueAndFallsBackRaisesNothing) {
+  // At once (drift_confirm_revolutions 1, before): the plateau's three revolutions above the critical value
+  // raise a drift; with 4 consecutive revolutions, nothing, and the ramp is still raised, within 4
+  // revolutions (16 s) of when the single revolution raised it.
+  const DriftRun at_once = run_drift_tests(1);
+  EXPECT_GE(at_once.excursion_raised_at, 0.0);
+  const DriftRun confirmed = run_drift_tests(4);
+  EXPECT_LT(confirmed.excursion_raised_at, 0.0);
+  ASSERT_GE(confirmed.ramp_raised_at, 0.0);
+  EXPECT_LE(confirmed.ramp_raised_at, (at_once.ramp_raised_at < 0 ? 1e9 : at_once.ramp_raised_at) + 16.0);
+}
+
 TEST(EpisodeClassifier, RecurrenceAfterTheWindowKeepsTheClass) {
   EpisodeConfig c;
   c.return_time = 3.0;
