@@ -31,8 +31,11 @@ struct DetectorConfig {
                                   ///< estimate's error (1-4 % of inertia) must not stop a rotor below it
   double critical_confirm_time = 60.0;  ///< s of fresh (excited) estimates above it before critical is raised
   double confirm_time = 10.0;  ///< s of fresh estimates, from a half-full median, above a level to raise it
-  double clear_time = 30.0;    ///< s below the clear level before a raised level clears
-  double clear_ratio = 0.7;    ///< a level clears below this share of its threshold (hysteresis)
+  /// s of them above the warning level before a rotor with no ice reported gets its first report, always the
+  /// warning (further levels then take confirm_time each)
+  double first_confirm_time = 60.0;
+  double clear_time = 30.0;  ///< s below the clear level before a raised level clears
+  double clear_ratio = 0.7;  ///< a level clears below this share of its threshold (hysteresis)
   double shed_power_step =
       0.01;                   ///< rise of the power model's calibration in one step that is shedding (0: off)
   double ice_cp_loss = 0.02;  ///< share of Cp an iced rotor loses per tonne (sizes a shedding from its Cp)
