@@ -38,8 +38,8 @@ struct Service {
   std::map<std::string, std::unique_ptr<TurbineDiagnoser>> turbines;
   std::map<std::string, InputContextTracker> contexts;
   std::map<std::string, InputContext> given;
-  std::unique_ptr<std::ofstream>
-      estimates;  // --estimates: this service's estimates as its replay writes them
+  std::unique_ptr<ReplaySink>
+      estimates;  // --estimates: this service's estimates, as its own replay writes them
 };
 
 struct Turbine {
@@ -152,7 +152,7 @@ int main(int argc, char** argv) {
     std::vector<Service> services;
     for (auto make : {blade_load::blade_load_spec, sensor_bias::sensor_bias_spec, pitch_diag::pitch_diag_spec,
                       ice_detect::ice_detect_spec, drive_train::drive_train_spec})
-      services.push_back(Service{make(), {}, {}, {}});
+      services.push_back(Service{make(), {}, {}, {}, nullptr});
     std::vector<std::string> known{"arbiter"};
     for (const auto& s : services) known.push_back(s.spec.name);
     const std::vector<Setting> set = parse_settings(settings, known);
@@ -162,10 +162,9 @@ int main(int argc, char** argv) {
                              [&](const Service& s) { return s.spec.name == estimates_of.substr(0, eq); });
       if (eq == std::string::npos || it == services.end())
         throw ConfigError("--estimates", 0, estimates_of, "expected SERVICE=FILE of a diagnostic service");
-      it->estimates = std::make_unique<std::ofstream>(estimates_of.substr(eq + 1));
-      *it->estimates << "t,turbine_id";
-      for (const auto& c : it->spec.estimate_columns) *it->estimates << "," << c;
-      *it->estimates << "\n";
+      ReplayOptions options;
+      options.estimates = estimates_of.substr(eq + 1);
+      it->estimates = std::make_unique<ReplaySink>(options, it->spec.estimate_columns);
     }
     for (auto& s : services)
       s.spec.configure(with_settings(config_dir + "/" + s.spec.name + ".yaml", s.spec.name, set));
@@ -202,11 +201,7 @@ int main(int argc, char** argv) {
         ok &= d->update(s, gap, ev);
         std::vector<std::string> values;
         if (d->estimate_due(values)) {
-          if (svc.estimates) {
-            *svc.estimates << s.t << "," << id;
-            for (const auto& v : values) *svc.estimates << "," << v;
-            *svc.estimates << "\n";
-          }
+          if (svc.estimates) svc.estimates->estimate(s.t, id, values);
           if (&svc == &bias) {
             turbine.control.corrected_generator_speed(std::stod(values.at(bias_corrected)), s.t);
           } else if (&svc == &ice) {
