@@ -133,8 +133,8 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   e.intermittent_window = y.get_number("intermittent_window", e.intermittent_window, 1.0, 86400.0);
   // A fault must not clear before a recurrence could still make it intermittent.
   e.clear_time = y.get_number("clear_time", e.clear_time, e.intermittent_window, 86400.0);
-  d.witness =
-      y.get_choice("witness", "confirm", {"confirm", "off"}) == "off" ? Witness::kOff : Witness::kConfirm;
+  const std::string witness = y.get_choice("witness", "sensors", {"sensors", "confirm", "off"});
+  d.witness = witness == "off" ? Witness::kOff : witness == "sensors" ? Witness::kSensors : Witness::kConfirm;
   d.witness_significance = y.get_number("witness_significance", d.witness_significance, 1e-12, 0.5);
   d.mean_test = y.get<bool>("mean_test", d.mean_test);
   AdaptationConfig& a = c.adaptation;

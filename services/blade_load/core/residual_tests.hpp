@@ -16,7 +16,7 @@
 
 namespace windfdi::blade_load {
 
-enum class Witness { kOff, kConfirm };
+enum class Witness { kOff, kConfirm, kSensors };
 
 /// Detection (Stotsky 2014: t-test per sample for outliers, moving-window mean test for drift).
 struct DetectionConfig {
@@ -39,9 +39,11 @@ struct DetectionConfig {
   // Isolation: the other blades as witnesses.
   double isolation_ratio = 0.5;  ///< cross-blade channels: the other two blades must agree with each other,
                                  ///< |x_o1 - x_o2| <= this * |x_b - mean(x_o)| (a single-sensor fault, 0..2)
-  Witness witness = Witness::kConfirm;  ///< kConfirm: the LIDAR residual counts only if the cross-blade
-                                        ///< amplitude residual agrees (sign and witness_significance)
-  double witness_significance = 1e-2;   ///< two-sided level of that agreement
+  /// kConfirm: the LIDAR residual counts only if the cross-blade model residual agrees (sign and
+  /// witness_significance); kSensors: and the gauges' own cross-blade amplitude is beyond the same test's
+  /// critical value, in the same direction; kOff: the paper's LIDAR residual alone.
+  Witness witness = Witness::kSensors;
+  double witness_significance = 1e-2;  ///< two-sided level of that agreement
   bool mean_test = true;  ///< cross-blade mean-load test (the only one that sees an offset or drift)
   // Class of a confirmed outlier: abrupt or drift.
   double abrupt_ratio =
@@ -105,7 +107,9 @@ class ResidualTests {
   };
 
   void critical_values();
-  bool standalone(int channel, bool lidar_ok) const;       // may decide alone now
+  bool standalone(int channel, bool lidar_ok) const;  // may decide alone now
+  // The LIDAR residual's t confirmed by the witnesses (crit: the test's critical values).
+  bool witnessed(const BladeChannels& t, int blade, const std::array<double, kChannels>& crit) const;
   double t_value(int blade, int channel, double x) const;  // NaN when not learned or x is not available
   void follow_noise(const BladeChannels& x);
   void drift_test(bool lidar_ok);

@@ -622,6 +622,17 @@ TEST(EpisodeClassifier, AbruptThenReturnThenRecurrenceIsIntermittentWithoutStorm
 // The moving-window test on synthetic residuals: healthy noise learned, then a quiet spell where blade 1's
 // mean-load residual rises to a plateau of 12 revolutions whose 10-revolution mean is just above the drift
 // critical value for 3 revolutions (a slow excursion that touches it and falls back), then a ramp (a drift).
+// Three blades whose gauges and LIDAR model agree (the residual tests take their channels as given).
+BladeEstimates three_equal_blades() {
+  BladeEstimates e;
+  for (int b = 0; b < 3; ++b) {
+    e.sensor_valid[b] = e.model_valid[b] = true;
+    e.a_sensor[b] = e.a_model[b] = 1e5;
+    e.mean_sensor[b] = e.mean_model[b] = 1e6;
+  }
+  return e;
+}
+
 struct DriftRun {
   double excursion_raised_at = -1.0;  // s, first sensor_drift during the plateau (-1: none)
   double ramp_raised_at = -1.0;       // s, first sensor_drift during the ramp
@@ -631,12 +642,7 @@ DriftRun run_drift_tests(int drift_confirm_revolutions) {
   DetectionConfig d;
   d.drift_confirm_revolutions = drift_confirm_revolutions;
   ResidualTests tests(d, LearningConfig{}, EpisodeConfig{});
-  BladeEstimates e;
-  for (int b = 0; b < 3; ++b) {
-    e.sensor_valid[b] = e.model_valid[b] = true;
-    e.a_sensor[b] = e.a_model[b] = 1e5;
-    e.mean_sensor[b] = e.mean_model[b] = 1e6;
-  }
+  const BladeEstimates e = three_equal_blades();
   const double revolution_time = 4.0, learn_sd = 0.01;
   std::mt19937 rng(7);
   std::normal_distribution<double> unit(0.0, 1.0);
@@ -693,6 +699,58 @@ TEST(ResidualTests, AnExcursionThatTouchesTheDriftCriticalValueAndFallsBackRaise
   EXPECT_LT(confirmed.excursion_raised_at, 0.0);
   ASSERT_GE(confirmed.ramp_raised_at, 0.0);
   EXPECT_LE(confirmed.ramp_raised_at, (at_once.ramp_raised_at < 0 ? 1e9 : at_once.ramp_raised_at) + 16.0);
+}
+
+// The outlier test on synthetic residuals: healthy noise learned, then blade 1's LIDAR residual steps by 15
+// learned deviations, its cross-blade model residual the other way. With `gauge_fault` its gauge reads high
+// (its amplitude against the other gauges' moves too); without it the LIDAR model is off on that blade alone
+// (the gauges agree). Returns the first class raised on blade 1 ("" none).
+std::string run_witness_tests(Witness witness, bool gauge_fault) {
+  DetectionConfig d;
+  d.witness = witness;
+  ResidualTests tests(d, LearningConfig{}, EpisodeConfig{});
+  const BladeEstimates e = three_equal_blades();
+  const double revolution_time = 4.0, sd = 0.01, step = 15.0 * sd;
+  std::mt19937 rng(11);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  std::vector<FaultEvent> events;
+  const int learn_revolutions = 60, step_at = 90;
+  for (int k = 0; k < 120; ++k) {
+    const double t = k * revolution_time;
+    BladeChannels x;
+    for (auto& blade : x)
+      for (double& v : blade) v = sd * unit(rng);
+    if (k >= step_at) {
+      x[0][kModelChannel] -= step;
+      x[0][kWitnessChannel] += step;
+      x[1][kWitnessChannel] -= 0.5 * step;
+      x[2][kWitnessChannel] -= 0.5 * step;
+      if (gauge_fault) {
+        x[0][kRawWitnessChannel] += step;
+        x[1][kRawWitnessChannel] -= 0.5 * step;
+        x[2][kRawWitnessChannel] -= 0.5 * step;
+      }
+    }
+    tests.revolution(t, revolution_time, x, true);
+    if (k == learn_revolutions) EXPECT_TRUE(tests.healthy().learned(kModelChannel));
+    for (int i = 0; i < 40; ++i) {
+      events.clear();
+      tests.tick(t + 0.1 * i, revolution_time, x, e, true, events);
+      for (const auto& ev : events)
+        if (ev.raised && ev.component == "blade_moment_sensor_1") return ev.fault;
+    }
+  }
+  return "";
+}
+
+TEST(ResidualTests, ALidarModelErrorOnOneBladeNeedsTheGaugesToAgreeBeforeItIsAFault) {
+  // A failed gauge is raised with either witness.
+  EXPECT_EQ(run_witness_tests(Witness::kConfirm, true), "sensor_abrupt");
+  EXPECT_EQ(run_witness_tests(Witness::kSensors, true), "sensor_abrupt");
+  // The LIDAR model off on one blade: confirm (the model residuals alone) raised it, as it did in the healthy
+  // suite hours; sensors (the gauges' own cross-blade amplitude must agree) raises nothing.
+  EXPECT_EQ(run_witness_tests(Witness::kConfirm, false), "sensor_abrupt");
+  EXPECT_EQ(run_witness_tests(Witness::kSensors, false), "");
 }
 
 TEST(EpisodeClassifier, RecurrenceAfterTheWindowKeepsTheClass) {
