@@ -3,14 +3,15 @@
 # arbiter (and a standby), the farm monitor with its live table on this terminal, then the plant with a
 # scenario. Stops everything when the plant ends or on Ctrl-C.
 # Usage: launch_farm.sh SCENARIO.yaml [--rate R] [--domain N] [--work DIR] [--standby] [--record]
-#                       [--table-period S] [--security DIR]
+#                       [--table-period S] [--security DIR] [--http ADDR:PORT]
 #   --rate R        plant speed-up (default 1: real time)      --work DIR   logs, farm.sqlite, recording
 #   --standby       also a standby arbiter (strength 10)       --record     plant writes DIR/frames.csv.gz
 #   --table-period  seconds between live-table refreshes (2)   --security   DDS-Security credentials dir
+#   --http          the farm monitor's web page and API there (off; a token file in $WINDFDI_FARM_TOKEN_FILE)
 set -euo pipefail
 top=$(cd "$(dirname "$0")/../.." && pwd)
 bin=${WINDFDI_BIN:-${WINDFDI_BUILD_DIR:-$top/build}/bin}
-usage="usage: launch_farm.sh SCENARIO.yaml [--rate R] [--domain N] [--work DIR] [--standby] [--record] [--table-period S] [--security DIR]"
+usage="usage: launch_farm.sh SCENARIO.yaml [--rate R] [--domain N] [--work DIR] [--standby] [--record] [--table-period S] [--security DIR] [--http ADDR:PORT]"
 scenario=${1:?$usage}
 shift
 [ -f "$scenario" ] || { echo "launch_farm: no scenario file $scenario" >&2; exit 2; }
@@ -20,6 +21,7 @@ standby=0
 record=()
 table=2
 security=()
+http=()
 domain=${WINDFDI_DOMAIN:-0}
 while [ $# -gt 0 ]; do
   case $1 in
@@ -30,6 +32,7 @@ while [ $# -gt 0 ]; do
     --record) record=(--record "$work/frames.csv.gz" --record-truth); shift ;;
     --table-period) table=$2; shift 2 ;;
     --security) security=(--security "$2"); shift 2 ;;
+    --http) http=(--http "$2"); shift 2 ;;
     *) echo "launch_farm: unknown option $1 ($usage)" >&2; exit 2 ;;
   esac
 done
@@ -61,9 +64,15 @@ if [ "$standby" = 1 ]; then
     "${security[@]}" >"$work/logs/arbiter-standby.log" 2>&1 &
   pids+=($!)
 fi
-"$bin/windfdi-farm" --db "$work/farm.sqlite" --table-period "$table" "${security[@]}" 2>"$work/logs/farm.log" &
+"$bin/windfdi-farm" --db "$work/farm.sqlite" --table-period "$table" "${security[@]}" "${http[@]}" \
+  2>"$work/logs/farm.log" &
 farm=$!
 pids+=($farm)
+if [ ${#http[@]} -gt 0 ]; then
+  for _ in $(seq 50); do grep -q "API on" "$work/logs/farm.log" 2>/dev/null && break; sleep 0.1; done
+  url=$(grep -o "API on [^ ]*" "$work/logs/farm.log" | head -1 | cut -d' ' -f3)
+  echo "launch_farm: farm web page ${url:-not started (see $work/logs/farm.log)}"
+fi
 sleep 2  # the services discover each other before the first frame
 "$bin/windfdi-plant" --scenario "$scenario" --rate "$rate" "${record[@]}" --progress 0 "${security[@]}" \
   >"$work/logs/plant.log" 2>&1 || echo "launch_farm: the plant exited with $? (see $work/logs/plant.log)" >&2

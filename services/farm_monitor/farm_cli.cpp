@@ -17,22 +17,27 @@
 
 namespace windfdi::farm {
 
-int publish_ack(const CommonOptions& common, const std::string& turbine, const std::string& component,
-                const std::string& fault, const std::string& operator_name, double timeout_s) {
+windfdi::FaultAck make_ack(const std::string& turbine, const std::string& component, const std::string& fault,
+                           const std::string& operator_name, const std::string& key) {
   windfdi::FaultClass fc = windfdi::FAULT_NONE;
   if (!bus::fault_class_from_name(fault, fc))
-    throw ConfigError("--fault", 0, "", "'" + fault + "' is not a fault class");
-  if (!is_component(component))
-    throw ConfigError("COMPONENT", 0, "", "'" + component + "' is not a component");
-  bus::Participant participant(participant_options(common, "windfdi-farm-ack"));
-  bus::Writer<windfdi::FaultAck> writer(participant);
-  writer.wait_for_readers(1, std::chrono::milliseconds(static_cast<int>(timeout_s * 1000)));
+    throw ConfigError(key, 0, "", "'" + fault + "' is not a fault class");
+  if (!is_component(component)) throw ConfigError(key, 0, "", "'" + component + "' is not a component");
   windfdi::FaultAck ack;
   ack.t(wall_time());
   ack.turbine_id(turbine);
   ack.component(component);
   ack.fault_class(fc);
   ack.operator_name(operator_name);
+  return ack;
+}
+
+int publish_ack(const CommonOptions& common, const std::string& turbine, const std::string& component,
+                const std::string& fault, const std::string& operator_name, double timeout_s) {
+  const windfdi::FaultAck ack = make_ack(turbine, component, fault, operator_name, "--fault or COMPONENT");
+  bus::Participant participant(participant_options(common, "windfdi-farm-ack"));
+  bus::Writer<windfdi::FaultAck> writer(participant);
+  writer.wait_for_readers(1, std::chrono::milliseconds(static_cast<int>(timeout_s * 1000)));
   if (!writer.write(ack)) throw std::runtime_error("FaultAck not written");
   const bool acked = writer.get()->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(
                          static_cast<int32_t>(std::ceil(timeout_s)), 0)) == ReturnCode_t::RETCODE_OK;

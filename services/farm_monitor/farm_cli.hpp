@@ -3,9 +3,15 @@
 
 #include <string>
 
+#include "FaultAck.h"
 #include "app.hpp"
 
 namespace windfdi::farm {
+
+/// The FaultAck of an operator's acknowledgement ("none": every class on the component); throws ConfigError
+/// naming `key` when the fault class or the component is not known.
+windfdi::FaultAck make_ack(const std::string& turbine, const std::string& component, const std::string& fault,
+                           const std::string& operator_name, const std::string& key);
 
 /// Publishes one FaultAck and waits (up to `timeout_s`) for it to be acknowledged by the readers.
 int publish_ack(const CommonOptions& common, const std::string& turbine, const std::string& component,

@@ -7,6 +7,8 @@
 #include <iostream>
 
 #include "dds/convert.hpp"
+#include "farm_cli.hpp"
+#include "yaml_config.hpp"
 
 namespace windfdi::farm {
 
@@ -52,6 +54,28 @@ FarmNode::FarmNode(const CommonOptions& common, const FarmOptions& options)
   for (const auto& e : store_.latest_faults()) state_.on_fault(e);
   spdlog::info("farm monitor: database {} holds {} fault events, {} configurations", options.db,
                store_.count("fault_events"), store_.count("configurations"));
+  if (!options.http.listen.empty()) {
+    const std::string token = options.http.token_file.empty() ? "" : read_token(options.http.token_file);
+    acks_ = std::make_unique<bus::Writer<windfdi::FaultAck>>(participant_);
+    api_ = std::make_unique<FarmApi>(options.db, token,
+                                     [this](const std::string& turbine, const std::string& component,
+                                            const std::string& fault, const std::string& operator_name) {
+                                       return publish_ack(turbine, component, fault, operator_name);
+                                     });
+    api_->update(state_, metrics_);
+    http_ = std::make_unique<FarmHttp>(options.http, *api_);
+    if (token.empty())
+      spdlog::warn("farm monitor: no operator token: the web API is read-only, localhost only");
+  }
+}
+
+int FarmNode::publish_ack(const std::string& turbine, const std::string& component, const std::string& fault,
+                          const std::string& operator_name) {
+  const windfdi::FaultAck ack = make_ack(turbine, component, fault, operator_name, "fault or component");
+  if (!acks_->write(ack)) throw std::runtime_error("FaultAck not written");
+  spdlog::info("{}: {} acknowledged {} on {} from the web page ({} arbiters)", turbine, operator_name, fault,
+               component, acks_->matched());
+  return static_cast<int>(acks_->matched());
 }
 
 void FarmNode::handle(double now) {
@@ -74,12 +98,15 @@ void FarmNode::handle(double now) {
     state_.on_config(rec);
   }
   std::vector<windfdi::ServiceHealth> health;
+  bool lost_any = false;
   for (const auto& c : liveliness_.poll(health_, &health)) {
     if (c.alive) continue;
+    lost_any = true;
     spdlog::warn("{}: service {} lost (liveliness)", c.turbine_id, c.service);
     service_state_[c.turbine_id + "/" + c.service] = "lost";
     store_.add_health({now, c.turbine_id, c.service, "lost", "liveliness lost"});
     state_.on_service_lost(c.turbine_id, c.service);
+    metrics_[c.turbine_id + "/" + c.service].state = "lost";
   }
   for (const auto& h : health) {
     const std::string state = pick(kServiceStates, h.state());
@@ -89,7 +116,13 @@ void FarmNode::handle(double now) {
       store_.add_health({now, h.turbine_id(), h.service(), state, h.detail()});
     }
     state_.on_service(h.turbine_id(), h.service(), state);
+    metrics_[key] = {state,  h.samples_in(), h.samples_rejected(), h.sequence_gaps(), h.deadlines_missed(),
+                     h.lag()};
   }
+  // The web side gets a copy only when something came in (200 turbines' picture is copied in well under 1
+  // ms).
+  if (api_ && (!reports.empty() || !configs.empty() || !health.empty() || lost_any))
+    api_->update(state_, metrics_);
 }
 
 void FarmNode::run() {

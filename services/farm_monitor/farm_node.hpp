@@ -2,13 +2,18 @@
 // table out. The one-shot subcommands (ack, history, report) are in farm_cli.hpp.
 #pragma once
 
+#include <map>
+#include <memory>
 #include <string>
 
 #include "ControlConfiguration.h"
+#include "FaultAck.h"
 #include "FaultReport.h"
 #include "ServiceHealth.h"
 #include "app.hpp"
 #include "dds/endpoints.hpp"
+#include "farm_api.hpp"
+#include "farm_http.hpp"
 #include "farm_state.hpp"
 #include "farm_store.hpp"
 #include "service_liveliness.hpp"
@@ -18,6 +23,7 @@ namespace windfdi::farm {
 struct FarmOptions {
   std::string db = "windfdi-farm.sqlite";  ///< SQLite database file
   double table_period = 1.0;               ///< s between live tables (0: no table)
+  HttpOptions http;                        ///< the web page and API (off unless http.listen is set)
 };
 
 ConfigRecord to_record(const windfdi::ControlConfiguration& c, double received_at);
@@ -29,6 +35,8 @@ class FarmNode {
 
  private:
   void handle(double now);
+  int publish_ack(const std::string& turbine, const std::string& component, const std::string& fault,
+                  const std::string& operator_name);
 
   FarmOptions options_;
   FarmStore store_;
@@ -40,6 +48,11 @@ class FarmNode {
   bus::Reader<windfdi::ServiceHealth> health_;
   ServiceLiveliness liveliness_;
   std::map<std::string, std::string> service_state_;  // turbine/service -> last state stored
+  std::map<std::string, ServiceMetrics> metrics_;     // turbine/service -> its last health, for /metrics
+  // The web side (with --http): destroyed first, so no request reaches a node being torn down.
+  std::unique_ptr<bus::Writer<windfdi::FaultAck>> acks_;
+  std::unique_ptr<FarmApi> api_;
+  std::unique_ptr<FarmHttp> http_;
 };
 
 }  // namespace windfdi::farm

@@ -18,6 +18,16 @@ int main(int argc, char** argv) {
   app.add_option("--table-period", options.table_period, "seconds between live tables (0: none)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 3600.0));
+  app.add_option("--http", options.http.listen,
+                 "serve the web page, JSON API and /metrics on PORT (127.0.0.1) or ADDR:PORT (default: off)");
+  if (const char* token = std::getenv("WINDFDI_FARM_TOKEN_FILE"); token && *token)
+    options.http.token_file = token;
+  app.add_option("--http-token-file", options.http.token_file,
+                 "file holding the operator token (acknowledgements, remote access; default "
+                 "$WINDFDI_FARM_TOKEN_FILE, none: read-only on localhost)");
+  app.add_option("--http-cert", options.http.cert,
+                 "PEM certificate: HTTPS instead of HTTP (with --http-key)");
+  app.add_option("--http-key", options.http.key, "PEM private key of --http-cert");
 
   auto* history = app.add_subcommand("history", "print the stored events");
   std::string turbine;

@@ -1,6 +1,11 @@
 // Multi-process tests of the arbiter and the farm monitor with synthetic FaultReports: latching and
-// acknowledgement end to end, service_lost, farm restart after kill -9, redundant arbiters.
+// acknowledgement end to end (by the command line and by the web API), service_lost, farm restart after
+// kill -9, redundant arbiters.
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <httplib.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <csignal>
 #include <fstream>
@@ -109,6 +114,124 @@ TEST_F(ArbiterFarm, CriticalFaultSafeStopsLatchesUntilAckAndFarmLosesNothingOnRe
   }
   EXPECT_TRUE(safe_stop_config);
   EXPECT_TRUE(normal_after);
+}
+
+// The port a farm monitor started with --http 0 logged ("web page and API on http://127.0.0.1:PORT/"), 0
+// none.
+int farm_port(ChildProcess& farm) {
+  int port = 0;
+  wait_until(
+      [&] {
+        const std::string err = farm.stderr_text();
+        const auto at = err.find("API on http://127.0.0.1:");
+        if (at == std::string::npos) return false;
+        port = std::atoi(err.c_str() + at + std::string("API on http://127.0.0.1:").size());
+        return port > 0;
+      },
+      std::chrono::seconds(20));
+  return port;
+}
+
+TEST_F(ArbiterFarm, TheWebApiShowsTheFaultRefusesAnAckWithoutTheTokenAndReleasesTheStopWithIt) {
+  const std::string db = dir + "/farm.sqlite";
+  std::ofstream(dir + "/token") << "op-token-42\n";
+  ChildProcess farm({bin("windfdi-farm"), "--db", db, "--table-period", "0", "--http", "0",
+                     "--http-token-file", dir + "/token"},
+                    env, "farm");
+  ChildProcess arbiter({bin("windfdi-arbiter"), "--config", dir + "/arbiter.yaml"}, env, "arbiter");
+  ChildProcess plant({bin("windfdi-test-peer"), "configs", "--timeout", "120"}, env, "configs");
+  ASSERT_TRUE(ready(plant)) << plant.stderr_text();
+  const int port = farm_port(farm);
+  ASSERT_GT(port, 0) << farm.stderr_text();
+  httplib::Client web("127.0.0.1", port);
+  web.set_read_timeout(5, 0);
+  // GIVEN a slow client that opened a connection and sends half a request, then nothing
+  const int slow = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(static_cast<uint16_t>(port));
+  inet_pton(AF_INET, "127.0.0.1", &addr.sin_addr);
+  ASSERT_EQ(connect(slow, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+  const std::string half = "GET /api/turbines HTTP/1.1\r\nHost: x\r\n";
+  ASSERT_GT(write(slow, half.data(), half.size()), 0);
+  // AND pitch_diag reporting a critical leak on blade 3 at 2 s, cleared at 14 s (the arbiter latches the
+  // stop)
+  ChildProcess service({bin("windfdi-test-peer"), "fault", "--source", "pitch_diag", "--turbine-id", "WT01",
+                        "--script", "2:pitch_actuator_3:hydraulic_leakage:critical:raised", "--script",
+                        "14:pitch_actuator_3:hydraulic_leakage:critical:cleared", "--hold", "120"},
+                       env, "pitch_diag");
+  ASSERT_TRUE(ready(service)) << service.stderr_text();
+
+  // THEN the API shows WT01 with the leak active, then in safe stop (the DDS side kept going with the slow
+  // client)
+  std::string last;
+  const auto wt01 = [&] {
+    const auto r = web.Get("/api/turbines");
+    last = r ? std::to_string(r->status) + " " + r->body : "no response: " + httplib::to_string(r.error());
+    if (!r || r->status != 200) return json();
+    const json all = json::parse(r->body);
+    for (const auto& t : all["turbines"])
+      if (t["turbine_id"] == "WT01") return t;
+    return json();
+  };
+  json seen;
+  ASSERT_TRUE(wait_until(
+      [&] {
+        seen = wt01();
+        return !seen.is_null() && !seen["active_faults"].empty();
+      },
+      std::chrono::seconds(30)))
+      << last << farm.stderr_text();
+  EXPECT_EQ(seen["active_faults"][0]["component"], "pitch_actuator_3");
+  EXPECT_EQ(seen["active_faults"][0]["severity"], "critical");
+  // AND /metrics counts it
+  const auto metrics = web.Get("/metrics");
+  ASSERT_TRUE(metrics && metrics->status == 200);
+  EXPECT_NE(metrics->body.find("windfdi_faults_active{turbine=\"WT01\",severity=\"critical\"} 1"),
+            std::string::npos)
+      << metrics->body;
+  ASSERT_TRUE(wait_until(
+      [&] {
+        seen = wt01();
+        return !seen.is_null() && seen["mode"] == "safe_stop";
+      },
+      std::chrono::seconds(30)))
+      << last;
+  const auto stopped = web.Get("/metrics");
+  ASSERT_TRUE(stopped && stopped->status == 200);
+  EXPECT_NE(stopped->body.find("windfdi_safe_stop{turbine=\"WT01\"} 1"), std::string::npos) << stopped->body;
+  // AND the page is served, the packaged plotting library with it
+  const auto page = web.Get("/");
+  ASSERT_TRUE(page && page->status == 200);
+  EXPECT_NE(page->body.find("<title>windfdi farm</title>"), std::string::npos);
+  const auto dygraph = web.Get("/js/dygraphs/dygraph.min.js");
+  ASSERT_TRUE(dygraph);
+  EXPECT_EQ(dygraph->status, 200);
+
+  // WHEN the leak has cleared (the stop stays latched)
+  ASSERT_TRUE(wait_until(
+      [&] {
+        const auto r = web.Get("/api/faults?turbine=WT01&state=cleared");
+        return r && r->status == 200 && !json::parse(r->body)["faults"].empty();
+      },
+      std::chrono::seconds(30)));
+  ASSERT_EQ(configs(plant).back()["mode"], 2);
+  const std::string ack = R"({"turbine_id":"WT01","component":"pitch_actuator_3","operator":"test"})";
+  // THEN an acknowledgement without the token is refused and the stop stays
+  const auto refused = web.Post("/api/ack", ack, "application/json");
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(refused->status, 401);
+  EXPECT_TRUE(json::parse(refused->body).contains("error"));
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  EXPECT_EQ(configs(plant).back()["mode"], 2);
+  // AND one with the token releases it
+  const auto accepted =
+      web.Post("/api/ack", {{"Authorization", "Bearer op-token-42"}}, ack, "application/json");
+  ASSERT_TRUE(accepted);
+  ASSERT_EQ(accepted->status, 200) << accepted->body;
+  ASSERT_TRUE(wait_until([&] { return configs(plant).back()["mode"] == 0; }, std::chrono::seconds(20)))
+      << plant.stdout_text() << arbiter.stderr_text();
+  close(slow);
 }
 
 TEST_F(ArbiterFarm, KilledServiceBecomesServiceLostAndConservativeSetting) {
