@@ -10,7 +10,7 @@ packages=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libeigen3-dev libspdlog-dev googletest libgtest-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   libsqlite3-dev sqlite3 libsdp-dev liblapack-dev libblas-dev libbenchmark-dev zlib1g-dev libssl-dev libtinyxml2-dev
-  libcpp-httplib-dev libjs-dygraphs
+  libcpp-httplib-dev libjs-dygraphs chromium-headless-shell
   openssl iproute2 procps python3 clang-format
 )
 missing=()

@@ -49,7 +49,13 @@ FarmNode::FarmNode(const CommonOptions& common, const FarmOptions& options)
       participant_(participant_options(common, "windfdi-farm")),
       faults_(participant_, common.turbines, &wakeup_),
       configs_(participant_, common.turbines, &wakeup_),
-      health_(participant_, common.turbines, &wakeup_) {
+      health_(participant_, common.turbines, &wakeup_),
+      // The estimates are not waited for: they are stored at estimate_period when the loop passes.
+      blade_estimates_(participant_, common.turbines),
+      bias_estimates_(participant_, common.turbines),
+      pitch_estimates_(participant_, common.turbines),
+      inertia_estimates_(participant_, common.turbines),
+      drive_train_estimates_(participant_, common.turbines) {
   // The picture survives a restart: start from what the database already knows.
   for (const auto& e : store_.latest_faults()) state_.on_fault(e);
   spdlog::info("farm monitor: database {} holds {} fault events, {} configurations", options.db,
@@ -76,6 +82,73 @@ int FarmNode::publish_ack(const std::string& turbine, const std::string& compone
   spdlog::info("{}: {} acknowledged {} on {} from the web page ({} arbiters)", turbine, operator_name, fault,
                component, acks_->matched());
   return static_cast<int>(acks_->matched());
+}
+
+namespace {
+template <class Array>
+nlohmann::json blades(const Array& a) {
+  return nlohmann::json(std::vector<double>(a.begin(), a.end()));
+}
+}  // namespace
+
+void FarmNode::sample(const std::string& turbine, const std::string& service, double t, nlohmann::json fields,
+                      double now) {
+  const auto last = estimate_stored_at_.find(turbine + "/" + service);
+  if (last != estimate_stored_at_.end() && t >= last->second &&
+      t - last->second < options_.estimate_period - 1e-9)
+    return;
+  estimate_stored_at_[turbine + "/" + service] = t;
+  estimate_batch_.push_back({now, t, turbine, service, std::move(fields)});
+}
+
+void FarmNode::store_estimates(double now) {
+  std::vector<windfdi::BladeLoadEstimate> blade;
+  blade_estimates_.take(blade);
+  std::vector<windfdi::SensorBiasEstimate> bias;
+  bias_estimates_.take(bias);
+  std::vector<windfdi::PitchActuatorEstimate> pitch;
+  pitch_estimates_.take(pitch);
+  std::vector<windfdi::InertiaEstimate> inertia;
+  inertia_estimates_.take(inertia);
+  std::vector<windfdi::DriveTrainEstimate> drive;
+  drive_train_estimates_.take(drive);
+  if (options_.estimate_period <= 0.0) return;
+  for (const auto& e : blade)
+    sample(e.turbine_id(), "blade_load", e.t(),
+           {{"a1_sensor", blades(e.a1_sensor())},
+            {"a1_model", blades(e.a1_model())},
+            {"lidar_ok", e.lidar_ok()}},
+           now);
+  for (const auto& e : bias)
+    sample(e.turbine_id(), "sensor_bias", e.t(),
+           {{"bias_rotor_speed", e.bias_rotor_speed()},
+            {"bias_generator_speed", e.bias_generator_speed()},
+            {"bias_pitch", blades(e.bias_pitch())},
+            {"bound_ratio", e.bound_ratio()}},
+           now);
+  for (const auto& e : pitch)
+    sample(e.turbine_id(), "pitch_diag", e.t(),
+           {{"omega_n", blades(e.omega_n())}, {"zeta", blades(e.zeta())}, {"alpha", blades(e.alpha())}}, now);
+  for (const auto& e : inertia)
+    sample(e.turbine_id(), "ice_detect", e.t(),
+           {{"inertia", e.inertia()},
+            {"inertia_clean", e.inertia_clean()},
+            {"ice_mass", e.ice_mass()},
+            {"excited", e.excited()}},
+           now);
+  for (const auto& e : drive)
+    sample(e.turbine_id(), "drive_train", e.t(),
+           {{"torque_offset", e.torque_offset()},
+            {"torque_statistic", e.torque_statistic()},
+            {"efficiency", e.efficiency()},
+            {"efficiency_reference", e.efficiency_reference()}},
+           now);
+  store_.add_estimates(estimate_batch_);
+  estimate_batch_.clear();
+  if (now - pruned_at_ >= 60.0) {
+    pruned_at_ = now;
+    store_.prune_estimates(now - 3600.0 * options_.estimate_retention);
+  }
 }
 
 void FarmNode::handle(double now) {
@@ -119,6 +192,7 @@ void FarmNode::handle(double now) {
     metrics_[key] = {state,  h.samples_in(), h.samples_rejected(), h.sequence_gaps(), h.deadlines_missed(),
                      h.lag()};
   }
+  store_estimates(now);
   // The web side gets a copy only when something came in (200 turbines' picture is copied in well under 1
   // ms).
   if (api_ && (!reports.empty() || !configs.empty() || !health.empty() || lost_any))

@@ -11,11 +11,16 @@
 #include "FaultReport.h"
 #include "ServiceHealth.h"
 #include "app.hpp"
+#include "blade_load_estimate_topic.hpp"
 #include "dds/endpoints.hpp"
+#include "drive_train_estimate_topic.hpp"
 #include "farm_api.hpp"
 #include "farm_http.hpp"
 #include "farm_state.hpp"
 #include "farm_store.hpp"
+#include "ice_detect_estimate_topic.hpp"
+#include "pitch_diag_estimate_topic.hpp"
+#include "sensor_bias_estimate_topic.hpp"
 #include "service_liveliness.hpp"
 
 namespace windfdi::farm {
@@ -24,6 +29,8 @@ struct FarmOptions {
   std::string db = "windfdi-farm.sqlite";  ///< SQLite database file
   double table_period = 1.0;               ///< s between live tables (0: no table)
   HttpOptions http;                        ///< the web page and API (off unless http.listen is set)
+  double estimate_period = 1.0;            ///< s of estimate time between stored estimates (0: none stored)
+  double estimate_retention = 24.0;        ///< h an estimate is kept
 };
 
 ConfigRecord to_record(const windfdi::ControlConfiguration& c, double received_at);
@@ -35,6 +42,10 @@ class FarmNode {
 
  private:
   void handle(double now);
+  void store_estimates(double now);
+  // Keeps `fields` when its service's last stored estimate of that turbine is estimate_period old.
+  void sample(const std::string& turbine, const std::string& service, double t, nlohmann::json fields,
+              double now);
   int publish_ack(const std::string& turbine, const std::string& component, const std::string& fault,
                   const std::string& operator_name);
 
@@ -46,6 +57,14 @@ class FarmNode {
   bus::Reader<windfdi::FaultReport> faults_;
   bus::Reader<windfdi::ControlConfiguration> configs_;
   bus::Reader<windfdi::ServiceHealth> health_;
+  bus::Reader<windfdi::BladeLoadEstimate> blade_estimates_;
+  bus::Reader<windfdi::SensorBiasEstimate> bias_estimates_;
+  bus::Reader<windfdi::PitchActuatorEstimate> pitch_estimates_;
+  bus::Reader<windfdi::InertiaEstimate> inertia_estimates_;
+  bus::Reader<windfdi::DriveTrainEstimate> drive_train_estimates_;
+  std::map<std::string, double> estimate_stored_at_;  // turbine/service -> t of the last stored estimate
+  std::vector<EstimateRecord> estimate_batch_;
+  double pruned_at_ = 0.0;
   ServiceLiveliness liveliness_;
   std::map<std::string, std::string> service_state_;  // turbine/service -> last state stored
   std::map<std::string, ServiceMetrics> metrics_;     // turbine/service -> its last health, for /metrics

@@ -18,6 +18,13 @@ int main(int argc, char** argv) {
   app.add_option("--table-period", options.table_period, "seconds between live tables (0: none)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 3600.0));
+  app.add_option("--estimate-period", options.estimate_period,
+                 "seconds of estimate time between the estimates stored per turbine and service (0: none)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 3600.0));
+  app.add_option("--estimate-retention", options.estimate_retention, "hours the stored estimates are kept")
+      ->capture_default_str()
+      ->check(CLI::Range(0.01, 24.0 * 3650));
   app.add_option("--http", options.http.listen,
                  "serve the web page, JSON API and /metrics on PORT (127.0.0.1) or ADDR:PORT (default: off)");
   if (const char* token = std::getenv("WINDFDI_FARM_TOKEN_FILE"); token && *token)

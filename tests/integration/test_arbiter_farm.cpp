@@ -116,22 +116,6 @@ TEST_F(ArbiterFarm, CriticalFaultSafeStopsLatchesUntilAckAndFarmLosesNothingOnRe
   EXPECT_TRUE(normal_after);
 }
 
-// The port a farm monitor started with --http 0 logged ("web page and API on http://127.0.0.1:PORT/"), 0
-// none.
-int farm_port(ChildProcess& farm) {
-  int port = 0;
-  wait_until(
-      [&] {
-        const std::string err = farm.stderr_text();
-        const auto at = err.find("API on http://127.0.0.1:");
-        if (at == std::string::npos) return false;
-        port = std::atoi(err.c_str() + at + std::string("API on http://127.0.0.1:").size());
-        return port > 0;
-      },
-      std::chrono::seconds(20));
-  return port;
-}
-
 TEST_F(ArbiterFarm, TheWebApiShowsTheFaultRefusesAnAckWithoutTheTokenAndReleasesTheStopWithIt) {
   const std::string db = dir + "/farm.sqlite";
   std::ofstream(dir + "/token") << "op-token-42\n";
@@ -141,7 +125,7 @@ TEST_F(ArbiterFarm, TheWebApiShowsTheFaultRefusesAnAckWithoutTheTokenAndReleases
   ChildProcess arbiter({bin("windfdi-arbiter"), "--config", dir + "/arbiter.yaml"}, env, "arbiter");
   ChildProcess plant({bin("windfdi-test-peer"), "configs", "--timeout", "120"}, env, "configs");
   ASSERT_TRUE(ready(plant)) << plant.stderr_text();
-  const int port = farm_port(farm);
+  const int port = farm_http_port(farm);
   ASSERT_GT(port, 0) << farm.stderr_text();
   httplib::Client web("127.0.0.1", port);
   web.set_read_timeout(5, 0);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -54,6 +55,22 @@ inline std::vector<nlohmann::json> farm_history(const std::string& db,
   ChildProcess h({bin("windfdi-farm"), "--db", db, "history", "--json"}, env, "history");
   if (h.wait(std::chrono::seconds(20)) != 0) return {};
   return json_lines(h.stdout_text());
+}
+
+/// The port of a farm monitor started with `--http 0` (from its log line "API on http://127.0.0.1:PORT/"), 0
+/// when it named none within 20 s.
+inline int farm_http_port(ChildProcess& farm) {
+  int port = 0;
+  const std::string key = "API on http://127.0.0.1:";
+  wait_until(
+      [&] {
+        const std::string err = farm.stderr_text();
+        const auto at = err.find(key);
+        if (at != std::string::npos) port = std::atoi(err.c_str() + at + key.size());
+        return port > 0;
+      },
+      std::chrono::seconds(20));
+  return port;
 }
 
 /// What a service said when it replayed a recording with a malformed third line.

@@ -58,9 +58,9 @@ struct RowQuery {
   std::size_t limit = 200;
 };
 
-RowQuery row_query(const ApiRequest& r) {
+RowQuery row_query(const ApiRequest& r, double limit = 200, double max_limit = 5000) {
   return {text_param(r, "turbine"), number_param(r, "since", 0.0, 0.0, 1e12),
-          static_cast<std::size_t>(number_param(r, "limit", 200, 1, 5000))};
+          static_cast<std::size_t>(number_param(r, "limit", limit, 1, max_limit))};
 }
 
 json fault_json(const FaultEvent& e) {
@@ -119,6 +119,7 @@ ApiResponse FarmApi::handle(const ApiRequest& r) {
     if (r.path == "/api/turbines" && r.method == "GET") return turbines();
     if (r.path == "/api/faults" && r.method == "GET") return faults(r);
     if (r.path == "/api/history" && r.method == "GET") return history(r);
+    if (r.path == "/api/estimates" && r.method == "GET") return estimates(r);
     if (r.path == "/api/ack" && r.method == "POST") return ack(r);
     if (r.path == "/metrics" && r.method == "GET") return metrics();
   } catch (const std::invalid_argument& e) {
@@ -128,7 +129,8 @@ ApiResponse FarmApi::handle(const ApiRequest& r) {
   } catch (const std::exception& e) {
     return api_error(500, e.what());
   }
-  for (const char* known : {"/api/turbines", "/api/faults", "/api/history", "/api/ack", "/metrics"})
+  for (const char* known :
+       {"/api/turbines", "/api/faults", "/api/history", "/api/estimates", "/api/ack", "/metrics"})
     if (r.path == known) return api_error(405, "method " + r.method + " not allowed on " + r.path);
   return api_error(404, "no such resource: " + r.path);
 }
@@ -204,6 +206,27 @@ ApiResponse FarmApi::history(const ApiRequest& r) {
     if (kind.empty() || it->kind == kind)
       out.push_back({{"received_at", it->received_at}, {"kind", it->kind}, {"data", it->data}});
   return json_response({{"history", out}});  // newest first
+}
+
+ApiResponse FarmApi::estimates(const ApiRequest& r) {
+  const RowQuery q = row_query(r, 3600, 86400);  // a day of 1 Hz estimates at most
+  const std::string service = name_param(r, "service", service_names());
+  if (q.turbine.empty() || service.empty())
+    throw std::invalid_argument("query parameters 'turbine' and 'service' are needed");
+  std::vector<EstimateRecord> rows;
+  {
+    std::lock_guard<std::mutex> lock(store_mutex_);
+    rows = store_->estimates(q.turbine, service, q.since, q.limit);
+  }
+  json out = json::array();
+  for (const auto& e : rows) {
+    json row = e.fields.is_object() ? e.fields : json::object();
+    row["t"] = e.t;
+    row["received_at"] = e.received_at;
+    out.push_back(row);
+  }
+  return json_response(
+      {{"turbine_id", q.turbine}, {"service", service}, {"estimates", out}});  // oldest first
 }
 
 ApiResponse FarmApi::ack(const ApiRequest& r) {

@@ -60,6 +60,7 @@ class FarmApi {
   ApiResponse turbines() const;
   ApiResponse faults(const ApiRequest& r);
   ApiResponse history(const ApiRequest& r);
+  ApiResponse estimates(const ApiRequest& r);
   ApiResponse ack(const ApiRequest& r);
   ApiResponse metrics() const;
 

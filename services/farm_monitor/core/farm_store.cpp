@@ -1,6 +1,7 @@
 // The farm monitor's durable event store (SQLite, WAL).
 #include "farm_store.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "yaml_config.hpp"
@@ -29,6 +30,7 @@ class Statement {
     return *this;
   }
   int step() { return sqlite3_step(stmt_); }
+  sqlite3_stmt* get() { return stmt_; }
   double real(int c) const { return sqlite3_column_double(stmt_, c); }
   int64_t integer(int c) const { return sqlite3_column_int64(stmt_, c); }
   std::string text(int c) const {
@@ -77,6 +79,15 @@ CREATE TABLE IF NOT EXISTS health_events (
   event TEXT NOT NULL,
   detail TEXT);
 CREATE INDEX IF NOT EXISTS fault_events_turbine ON fault_events (turbine_id, received_at);
+CREATE TABLE IF NOT EXISTS estimates (
+  id INTEGER PRIMARY KEY,
+  received_at REAL NOT NULL,
+  t REAL NOT NULL,
+  turbine_id TEXT NOT NULL,
+  service TEXT NOT NULL,
+  fields TEXT NOT NULL,
+  UNIQUE (turbine_id, service, t));
+CREATE INDEX IF NOT EXISTS estimates_turbine ON estimates (turbine_id, service, received_at);
 )sql";
 
 // The fault columns every fault query selects, in this order, starting at `first`.
@@ -160,6 +171,49 @@ bool FarmStore::add_health(const HealthRecord& h) {
   s.bind(1, h.received_at).bind(2, h.turbine_id).bind(3, h.service).bind(4, h.event).bind(5, h.detail);
   if (s.step() != SQLITE_DONE) throw std::runtime_error(std::string("sqlite insert: ") + sqlite3_errmsg(db_));
   return true;
+}
+
+void FarmStore::add_estimates(const std::vector<EstimateRecord>& batch) {
+  if (batch.empty()) return;
+  // One transaction for the batch: one durable write per DDS loop pass, not one per turbine and service.
+  exec("BEGIN");
+  try {
+    Statement s(
+        db_,
+        "INSERT OR IGNORE INTO estimates (received_at, t, turbine_id, service, fields) VALUES (?,?,?,?,?)");
+    for (const auto& e : batch) {
+      sqlite3_reset(s.get());
+      s.bind(1, e.received_at).bind(2, e.t).bind(3, e.turbine_id).bind(4, e.service).bind(5, e.fields.dump());
+      if (s.step() != SQLITE_DONE)
+        throw std::runtime_error(std::string("sqlite insert: ") + sqlite3_errmsg(db_));
+    }
+    exec("COMMIT");
+  } catch (...) {
+    exec("ROLLBACK");
+    throw;
+  }
+}
+
+int64_t FarmStore::prune_estimates(double before) {
+  Statement s(db_, "DELETE FROM estimates WHERE received_at < ?");
+  s.bind(1, before);
+  if (s.step() != SQLITE_DONE) throw std::runtime_error(std::string("sqlite delete: ") + sqlite3_errmsg(db_));
+  return sqlite3_changes(db_);
+}
+
+std::vector<EstimateRecord> FarmStore::estimates(const std::string& turbine, const std::string& service,
+                                                 double since, std::size_t limit) const {
+  // The newest `limit` since `since`, returned oldest first (a plot's order).
+  Statement s(db_,
+              "SELECT received_at, t, turbine_id, service, fields FROM estimates WHERE turbine_id = ? AND "
+              "service = ? AND received_at >= ? ORDER BY received_at DESC, id DESC LIMIT ?");
+  s.bind(1, turbine).bind(2, service).bind(3, since).bind(4, static_cast<int64_t>(limit));
+  std::vector<EstimateRecord> out;
+  while (s.step() == SQLITE_ROW)
+    out.push_back(
+        {s.real(0), s.real(1), s.text(2), s.text(3), nlohmann::json::parse(s.text(4), nullptr, false)});
+  std::reverse(out.begin(), out.end());
+  return out;
 }
 
 std::vector<HistoryRow> FarmStore::history(const std::string& turbine, double since) const {

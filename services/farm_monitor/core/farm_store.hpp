@@ -32,6 +32,16 @@ struct HealthRecord {
   std::string detail;
 };
 
+/// A diagnostic service's estimate for one turbine, as stored (at most one per second per service and
+/// turbine): its fields by name, an array per blade ({"omega_n": [w1, w2, w3], "excited": [...]}).
+struct EstimateRecord {
+  double received_at = 0.0;  ///< wall time
+  double t = 0.0;            ///< the estimate's own time stamp
+  std::string turbine_id;
+  std::string service;
+  nlohmann::json fields;
+};
+
 /// One row of the history, whatever its kind.
 struct HistoryRow {
   double received_at = 0.0;
@@ -52,6 +62,14 @@ class FarmStore {
   bool add_fault(const FaultEvent& e, double received_at);
   bool add_config(const ConfigRecord& c);
   bool add_health(const HealthRecord& h);
+
+  /// Stores a batch of estimates in one transaction (an estimate already stored is skipped).
+  void add_estimates(const std::vector<EstimateRecord>& batch);
+  /// Deletes the estimates received before `before` (wall time); returns how many.
+  int64_t prune_estimates(double before);
+  /// The newest `limit` estimates of one service on one turbine received since `since`, oldest first.
+  std::vector<EstimateRecord> estimates(const std::string& turbine, const std::string& service, double since,
+                                        std::size_t limit) const;
 
   /// Every row since `since` (wall time), oldest first, for one turbine or all (empty).
   std::vector<HistoryRow> history(const std::string& turbine_id, double since) const;

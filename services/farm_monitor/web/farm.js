@@ -84,13 +84,66 @@ function time(s) { return new Date(s * 1000).toLocaleTimeString(); }
 
 async function openTurbine(id) {
   selected = id;
+  history.replaceState(null, "", "#turbine=" + encodeURIComponent(id));
   document.getElementById("turbine-view").hidden = false;
   document.getElementById("turbine-name").textContent = id;
   await refreshTurbine();
 }
 
+// The paper's Table 1 (Wu & Li): omega_n (rad/s) and zeta of the healthy actuator and of each fault.
+const table1 = { healthy: [11.11, 0.6], pump_wear: [7.27, 0.75], hydraulic_leakage: [3.42, 0.9],
+  high_air_content: [5.73, 0.45] };
+// ice_detect's shipped levels (deploy/config/ice_detect.yaml: warning_rise, fault_rise, critical_rise).
+const iceLevels = { warning: 0.0465, fault: 0.0684, critical: 0.123 };
+const graphs = {};
+
+// One plot: rows [Date, v1, v2, ...]; `dashed` names the reference series.
+function plot(id, labels, rows, dashed = []) {
+  const div = document.getElementById(id);
+  div.dataset.points = String(rows.length);
+  if (typeof Dygraph === "undefined") {
+    div.textContent = "plots need Debian's libjs-dygraphs on the farm monitor's host";
+    return;
+  }
+  if (rows.length === 0) {
+    if (graphs[id]) { graphs[id].destroy(); delete graphs[id]; }
+    div.textContent = "no estimate stored yet";
+    return;
+  }
+  const series = {};
+  for (const name of dashed) series[name] = { strokePattern: Dygraph.DASHED_LINE, strokeWidth: 1 };
+  const options = { labels: ["time", ...labels], title: div.dataset.title, series, legend: "follow",
+    titleHeight: 20, axisLabelFontSize: 11 };
+  if (graphs[id]) graphs[id].updateOptions(Object.assign({ file: rows }, options));
+  else { div.textContent = ""; graphs[id] = new Dygraph(div, rows, options); }
+}
+
+const blades = [1, 2, 3];
+async function refreshEstimates() {
+  const since = Date.now() / 1000 - Number(document.getElementById("window").value);
+  const get = (service) => api(`/api/estimates?turbine=${encodeURIComponent(selected)}&service=${service}` +
+    `&since=${since}`).then((r) => r.estimates);
+  const [pitch, bias, ice, blade] = await Promise.all(["pitch_diag", "sensor_bias", "ice_detect", "blade_load"].map(get));
+  const when = (e) => new Date(e.received_at * 1000);
+  const refs = (i) => Object.values(table1).map((v) => v[i]);
+  const refNames = Object.keys(table1);
+  plot("plot-pitch-omega", [...blades.map((b) => "blade " + b), ...refNames],
+    pitch.map((e) => [when(e), ...e.omega_n, ...refs(0)]), refNames);
+  plot("plot-pitch-zeta", [...blades.map((b) => "blade " + b), ...refNames],
+    pitch.map((e) => [when(e), ...e.zeta, ...refs(1)]), refNames);
+  plot("plot-bias-pitch", blades.map((b) => "pitch " + b), bias.map((e) => [when(e), ...e.bias_pitch]));
+  plot("plot-bias-bound", ["bound ratio", "threshold"], bias.map((e) => [when(e), e.bound_ratio, 1.0]), ["threshold"]);
+  const levelNames = Object.keys(iceLevels);
+  plot("plot-inertia", ["inertia", "clean J0", ...levelNames],
+    ice.map((e) => [when(e), e.inertia, e.inertia_clean,
+      ...Object.values(iceLevels).map((r) => e.inertia_clean * (1 + r))]), ["clean J0", ...levelNames]);
+  plot("plot-blade", [...blades.map((b) => "gauge " + b), ...blades.map((b) => "LIDAR model " + b)],
+    blade.map((e) => [when(e), ...e.a1_sensor.map((v) => v / 1e3), ...e.a1_model.map((v) => v / 1e3)]));
+}
+
 async function refreshTurbine() {
   if (!selected) return;
+  await refreshEstimates();
   const q = "turbine=" + encodeURIComponent(selected);
   const [faults, configs] = await Promise.all([api("/api/faults?limit=50&" + q),
     api("/api/history?kind=config&limit=20&" + q)]);
@@ -123,4 +176,8 @@ async function poll() {
   }
   setTimeout(poll, 1000);
 }
+// A link to one turbine's view: /#turbine=WT01.
+const linked = new URLSearchParams(location.hash.slice(1)).get("turbine");
+if (linked) openTurbine(linked);
+document.getElementById("window").addEventListener("change", refreshTurbine);
 poll();

@@ -77,6 +77,14 @@ class FarmApiTest : public ::testing::Test {
     c.reasons = {"pitch_diag/pitch_actuator_3/hydraulic_leakage: mode=safe_stop"};
     store.add_config(c);
     state.on_config(c);
+    // Estimates of pitch_diag on WT01 received at 1001..1010 (one a second), and one of ice_detect.
+    std::vector<EstimateRecord> batch;
+    for (int i = 1; i <= 10; ++i)
+      batch.push_back(
+          {1000.0 + i, 100.0 + i, "WT01", "pitch_diag", json{{"omega_n", {11.0, 11.1, 7.3 + i}}}});
+    batch.push_back({1005.0, 105.0, "WT01", "ice_detect", json{{"inertia", 6500.0}}});
+    store.add_estimates(batch);
+    store.add_estimates({batch[0]});  // again (a replay): stored once
     state.on_service("WT01", "pitch_diag", "ok");
     services["WT01/pitch_diag"] = {"ok", 1200, 3, 0, 0, 0.004};
     services["WT01/ice_detect"] = {"lost", 900, 0, 1, 0, 0.0};
@@ -152,6 +160,37 @@ TEST_F(FarmApiTest, HistoryOfOneKind) {
   EXPECT_EQ(j["history"][0]["data"]["mode"], "safe_stop");
   EXPECT_EQ(j["history"][0]["data"]["reasons"][0],
             "pitch_diag/pitch_actuator_3/hydraulic_leakage: mode=safe_stop");
+}
+
+TEST_F(FarmApiTest, EstimatesOfOneServiceOldestFirstSinceAndLimited) {
+  auto a = api();
+  json j =
+      json::parse(a->handle(get("/api/estimates", {{"turbine", "WT01"}, {"service", "pitch_diag"}})).body);
+  ASSERT_EQ(j["estimates"].size(), 10u);
+  EXPECT_EQ(j["estimates"][0]["t"], 101.0);  // oldest first: a plot's order
+  EXPECT_EQ(j["estimates"][9]["omega_n"][2], 17.3);
+  // The newest 3 since 1004.5 (received 1005..1010).
+  j = json::parse(
+      a->handle(get("/api/estimates",
+                    {{"turbine", "WT01"}, {"service", "pitch_diag"}, {"since", "1004.5"}, {"limit", "3"}}))
+          .body);
+  ASSERT_EQ(j["estimates"].size(), 3u);
+  EXPECT_EQ(j["estimates"][0]["t"], 108.0);
+  EXPECT_EQ(j["estimates"][2]["received_at"], 1010.0);
+  // Both names needed, and a known service.
+  EXPECT_EQ(a->handle(get("/api/estimates", {{"turbine", "WT01"}})).status, 400);
+  EXPECT_EQ(a->handle(get("/api/estimates", {{"service", "pitch_diag"}})).status, 400);
+  EXPECT_EQ(a->handle(get("/api/estimates", {{"turbine", "WT01"}, {"service", "weather"}})).status, 400);
+}
+
+TEST(FarmStoreEstimates, PrunedBeforeTheRetention) {
+  FarmStore store(test::temp_dir("farm_estimates") + "/farm.sqlite");
+  std::vector<EstimateRecord> batch;
+  for (int i = 0; i < 5; ++i)
+    batch.push_back({100.0 + i, double(i), "WT03", "ice_detect", json{{"inertia", 1.0}}});
+  store.add_estimates(batch);
+  EXPECT_EQ(store.prune_estimates(102.0), 2);  // received at 100 and 101
+  EXPECT_EQ(store.estimates("WT03", "ice_detect", 0.0, 100).size(), 3u);
 }
 
 TEST_F(FarmApiTest, MalformedQueriesAreRefusedWithAJsonErrorNamingTheParameter) {
