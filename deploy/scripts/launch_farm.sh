@@ -64,6 +64,7 @@ if [ "$standby" = 1 ]; then
     "${security[@]}" >"$work/logs/arbiter-standby.log" 2>&1 &
   pids+=($!)
 fi
+if [ ${#http[@]} -gt 0 ]; then http+=(--report-scenario "$scenario"); fi
 "$bin/windfdi-farm" --db "$work/farm.sqlite" --table-period "$table" "${security[@]}" "${http[@]}" \
   2>"$work/logs/farm.log" &
 farm=$!

@@ -63,11 +63,13 @@ FarmNode::FarmNode(const CommonOptions& common, const FarmOptions& options)
   if (!options.http.listen.empty()) {
     const std::string token = options.http.token_file.empty() ? "" : read_token(options.http.token_file);
     acks_ = std::make_unique<bus::Writer<windfdi::FaultAck>>(participant_);
-    api_ = std::make_unique<FarmApi>(options.db, token,
-                                     [this](const std::string& turbine, const std::string& component,
-                                            const std::string& fault, const std::string& operator_name) {
-                                       return publish_ack(turbine, component, fault, operator_name);
-                                     });
+    api_ = std::make_unique<FarmApi>(
+        options.db, token,
+        [this](const std::string& turbine, const std::string& component, const std::string& fault,
+               const std::string& operator_name) {
+          return publish_ack(turbine, component, fault, operator_name);
+        },
+        options.report_scenario);
     api_->update(state_, metrics_);
     http_ = std::make_unique<FarmHttp>(options.http, *api_);
     if (token.empty())

@@ -31,6 +31,7 @@ struct FarmOptions {
   HttpOptions http;                        ///< the web page and API (off unless http.listen is set)
   double estimate_period = 1.0;            ///< s of estimate time between stored estimates (0: none stored)
   double estimate_retention = 24.0;        ///< h an estimate is kept
+  std::string report_scenario;             ///< the plant scenario run, for the page's report ("" none)
 };
 
 ConfigRecord to_record(const windfdi::ControlConfiguration& c, double received_at);

@@ -32,6 +32,8 @@ int main(int argc, char** argv) {
   app.add_option("--http-token-file", options.http.token_file,
                  "file holding the operator token (acknowledgements, remote access; default "
                  "$WINDFDI_FARM_TOKEN_FILE, none: read-only on localhost)");
+  app.add_option("--report-scenario", options.report_scenario,
+                 "the plant scenario this farm runs: the page and GET /api/report judge the run against it");
   app.add_option("--http-cert", options.http.cert,
                  "PEM certificate: HTTPS instead of HTTP (with --http-key)");
   app.add_option("--http-key", options.http.key, "PEM private key of --http-cert");

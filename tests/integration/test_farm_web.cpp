@@ -1,6 +1,7 @@
 // The farm web page in a real headless browser: plant, sensor_bias, pitch_diag, the arbiter and the farm
 // monitor with --http on a private DDS domain; the page's rendered DOM must show the turbine's tile with the
-// injected fault on it and plots with data, and screenshots of the farm and turbine views are written.
+// injected fault on it, plots with data and the scenario's report, and screenshots of the farm and turbine
+// views are written.
 #include <gtest/gtest.h>
 #include <httplib.h>
 
@@ -64,7 +65,9 @@ TEST(FarmWeb, TheBrowserShowsTheTurbineTheFaultOnItsTileAndPlotsWithData) {
   const int domain = private_domain(23);
   const auto env = dds_env(domain);
   const std::string dir = temp_dir("farm_web_" + std::to_string(domain));
-  ChildProcess farm({bin("windfdi-farm"), "--db", dir + "/farm.sqlite", "--table-period", "0", "--http", "0"},
+  const std::string scenario = kDeploy + "/scenarios/sensor_bias_pitch.yaml";
+  ChildProcess farm({bin("windfdi-farm"), "--db", dir + "/farm.sqlite", "--table-period", "0", "--http", "0",
+                     "--report-scenario", scenario},
                     env, "farm");
   ChildProcess arbiter({bin("windfdi-arbiter")}, env, "arbiter");
   ChildProcess bias({bin("windfdi-sensor-bias"), "--config", kDeploy + "/config/sensor_bias.yaml"}, env,
@@ -75,9 +78,7 @@ TEST(FarmWeb, TheBrowserShowsTheTurbineTheFaultOnItsTileAndPlotsWithData) {
   ASSERT_GT(port, 0) << farm.stderr_text();
   std::this_thread::sleep_for(std::chrono::seconds(2));  // the services discover each other
   // GIVEN the plant with a 1 deg pitch-sensor bias on blade 2 from 150 s, at 20x
-  ChildProcess plant(
-      {bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/sensor_bias_pitch.yaml", "--rate", "20"},
-      env, "plant");
+  ChildProcess plant({bin("windfdi-plant"), "--scenario", scenario, "--rate", "20"}, env, "plant");
   // WHEN the farm monitor has the report and a few estimates of both services
   httplib::Client web("127.0.0.1", port);
   const auto fault_seen = [&] {
@@ -110,6 +111,11 @@ TEST(FarmWeb, TheBrowserShowsTheTurbineTheFaultOnItsTileAndPlotsWithData) {
     const auto next = dom.find("class=\"plot\"", at + 1);
     EXPECT_NE(dom.substr(at, next - at).find("<canvas"), std::string::npos) << plot;
   }
+  // AND the scenario report judges the run: the bias named right first
+  EXPECT_NE(dom.find("<section id=\"report\">"), std::string::npos) << "the report section is hidden";
+  const auto report = dom.find("id=\"report-faults\"");
+  ASSERT_NE(report, std::string::npos);
+  EXPECT_NE(dom.find("pitch_sensor_2 sensor_bias</td><td>sensor_bias", report), std::string::npos) << dom;
   // AND screenshots are written (WINDFDI_SCREENSHOT_DIR: where the README's come from)
   const char* shots = std::getenv("WINDFDI_SCREENSHOT_DIR");
   const std::string out = shots && *shots ? shots : dir;

@@ -47,6 +47,8 @@ echo "== drive_train_plant, example 2 MW turbine"
 "$bin/drive_train_plant" 10 5 --turbine "$turbine2"
 echo "== system_latency"
 "$top/tests/perf/system_latency.sh" 10 90
+echo "== farm_http_latency (the farm web page's data with 200 turbines running)"
+"$top/tests/perf/farm_http_latency.sh" 200 300 30
 echo "== farm_capacity"
 "$top/tests/perf/farm_capacity.sh" 30 10 20 40 80
 echo "== ipc_value"

@@ -17,29 +17,9 @@
 # Usage: system_latency.sh [TURBINES=10] [SECONDS=120] [PERIOD=6]
 # Binaries: $WINDFDI_BIN (default build/bin); system_latency from $SYSTEM_LATENCY_BIN or $WINDFDI_BIN.
 set -euo pipefail
-top=$(cd "$(dirname "$0")/../.." && pwd)
-# The diagnostic services of the registry, as executable suffixes (blade-load, ...).
-services=$(awk '!/^[[:space:]]*(#|$)/ {gsub("_", "-", $1); print $1}' "$top/services/services.list")
-bin=${WINDFDI_BIN:-$top/build/bin}
+. "$(dirname "$0")/dds_run.sh"
 meter=${SYSTEM_LATENCY_BIN:-$bin/system_latency}
 n=${1:-10}; secs=${2:-120}; period=${3:-6}
-domain=$(( 150 + $$ % 50 ))
-export WINDFDI_DOMAIN=$domain WINDFDI_PARTICIPANT_PROFILE=windfdi_participant_loopback
-unset FASTRTPS_DEFAULT_PROFILES_FILE ROS_DISCOVERY_SERVER FASTDDS_ENVIRONMENT_FILE WINDFDI_QOS_FILE
-work=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
-  sleep 1
-  for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done
-  for off in $(seq 0 249); do
-    port=$(( 7400 + 250 * domain + off ))
-    rm -f /dev/shm/fastrtps_port$port /dev/shm/fastrtps_port${port}_el /dev/shm/sem.fastrtps_port${port}_mutex
-  done
-  [ -n "${KEEP_WORK:-}" ] && echo "logs kept in $work" || rm -rf "$work"
-}
-trap cleanup EXIT
-trap 'exit 130' INT TERM
 
 # Scenario: N turbines, episodes of NaN on blade 3 from 15 s on (the services have settled), staggered.
 sim=$(( secs + 20 ))

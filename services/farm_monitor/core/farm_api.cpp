@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "fault_report.hpp"
 #include "isolation.hpp"
 #include "names.hpp"
 #include "yaml_config.hpp"
@@ -93,8 +94,13 @@ ApiResponse api_error(int status, const std::string& message) {
   return json_response({{"error", message}}, status);
 }
 
-FarmApi::FarmApi(const std::string& db, std::string token, AckPublisher ack)
-    : token_(std::move(token)), ack_(std::move(ack)), store_(std::make_unique<FarmStore>(db)) {}
+FarmApi::FarmApi(const std::string& db, std::string token, AckPublisher ack, std::string scenario)
+    : token_(std::move(token)),
+      ack_(std::move(ack)),
+      scenario_(std::move(scenario)),
+      store_(std::make_unique<FarmStore>(db)) {
+  if (!scenario_.empty()) read_injected(scenario_);  // a scenario that cannot be read is an error at start
+}
 
 void FarmApi::update(const FarmState& state, const std::map<std::string, ServiceMetrics>& services) {
   std::lock_guard<std::mutex> lock(picture_mutex_);
@@ -122,6 +128,7 @@ ApiResponse FarmApi::handle(const ApiRequest& r) {
     if (r.path == "/api/estimates" && r.method == "GET") return estimates(r);
     if (r.path == "/api/ack" && r.method == "POST") return ack(r);
     if (r.path == "/metrics" && r.method == "GET") return metrics();
+    if (r.path == "/api/report" && r.method == "GET") return report();
   } catch (const std::invalid_argument& e) {
     return api_error(400, e.what());
   } catch (const ConfigError& e) {
@@ -129,8 +136,8 @@ ApiResponse FarmApi::handle(const ApiRequest& r) {
   } catch (const std::exception& e) {
     return api_error(500, e.what());
   }
-  for (const char* known :
-       {"/api/turbines", "/api/faults", "/api/history", "/api/estimates", "/api/ack", "/metrics"})
+  for (const char* known : {"/api/turbines", "/api/faults", "/api/history", "/api/estimates", "/api/ack",
+                            "/api/report", "/metrics"})
     if (r.path == known) return api_error(405, "method " + r.method + " not allowed on " + r.path);
   return api_error(404, "no such resource: " + r.path);
 }
@@ -246,6 +253,15 @@ ApiResponse FarmApi::ack(const ApiRequest& r) {
   const int arbiters = ack_ ? ack_(turbine, component, fault, who) : 0;
   if (arbiters == 0) return api_error(503, "no arbiter received the acknowledgement");
   return json_response({{"acknowledged", true}, {"arbiters", arbiters}});
+}
+
+ApiResponse FarmApi::report() {
+  if (scenario_.empty())
+    return api_error(404, "the farm monitor was not given a scenario (--report-scenario)");
+  const std::vector<HistoryRow> history = stored("", 0.0);
+  json out = report_json(match(read_injected(scenario_), history), history);
+  out["scenario"] = scenario_;
+  return json_response(out);
 }
 
 ApiResponse FarmApi::metrics() const {

@@ -47,7 +47,8 @@ class FarmApi {
  public:
   /// db: the farm monitor's SQLite file, opened again here for reading (WAL: readers do not block the
   /// writer). token: the operator token ("" none: acknowledgement and remote access are refused).
-  FarmApi(const std::string& db, std::string token, AckPublisher ack);
+  /// scenario: the plant scenario the farm runs, when known (GET /api/report judges the run against it).
+  FarmApi(const std::string& db, std::string token, AckPublisher ack, std::string scenario = "");
 
   /// The DDS side's latest picture, copied in (the HTTP threads never touch the DDS node's own state).
   void update(const FarmState& state, const std::map<std::string, ServiceMetrics>& services);
@@ -62,10 +63,12 @@ class FarmApi {
   ApiResponse history(const ApiRequest& r);
   ApiResponse estimates(const ApiRequest& r);
   ApiResponse ack(const ApiRequest& r);
+  ApiResponse report();
   ApiResponse metrics() const;
 
   std::string token_;
   AckPublisher ack_;
+  std::string scenario_;
   mutable std::mutex picture_mutex_;
   FarmState state_;
   std::map<std::string, ServiceMetrics> services_;  // "turbine/service"

@@ -135,7 +135,8 @@ async function refreshEstimates() {
   plot("plot-bias-bound", ["bound ratio", "threshold"], bias.map((e) => [when(e), e.bound_ratio, 1.0]), ["threshold"]);
   const levelNames = Object.keys(iceLevels);
   plot("plot-inertia", ["inertia", "clean J0", ...levelNames],
-    ice.map((e) => [when(e), e.inertia, e.inertia_clean,
+    // No estimate yet (0): a gap, not a value.
+    ice.map((e) => [when(e), e.inertia > 0 ? e.inertia : null, e.inertia_clean,
       ...Object.values(iceLevels).map((r) => e.inertia_clean * (1 + r))]), ["clean J0", ...levelNames]);
   plot("plot-blade", [...blades.map((b) => "gauge " + b), ...blades.map((b) => "LIDAR model " + b)],
     blade.map((e) => [when(e), ...e.a1_sensor.map((v) => v / 1e3), ...e.a1_model.map((v) => v / 1e3)]));
@@ -157,6 +158,27 @@ async function refreshTurbine() {
     `<td>${escapeHtml((h.data.reasons || []).join("; "))}</td></tr>`).join("");
 }
 
+// The run judged against the scenario, when the farm monitor was given one (--report-scenario).
+let reportAt = 0;
+async function refreshReport() {
+  if (Date.now() - reportAt < 10000) return;
+  reportAt = Date.now();
+  const response = await fetch("/api/report", { headers: tokenInput.value ? { Authorization: "Bearer " + tokenInput.value } : {} });
+  if (!response.ok) return;  // no scenario: no section
+  const r = await response.json();
+  document.getElementById("report").hidden = false;
+  const right = r.faults.filter((f) => f.expected && f.first === f.expected).length;
+  const covered = r.faults.filter((f) => f.expected).length;
+  document.getElementById("report-summary").textContent =
+    `(${right} of ${covered} right first, ${r.extra.filter((x) => !x.secondary).length} unexpected, ` +
+    `${r.stops.filter((x) => !x.warranted).length} unwarranted stops)`;
+  document.querySelector("#report-faults tbody").innerHTML = r.faults.map((f) =>
+    `<tr><td>${escapeHtml(f.turbine)}</td><td>${escapeHtml(f.target + ":" + f.type)}</td><td>${f.start}</td>` +
+    `<td>${escapeHtml(f.expected ? f.component + " " + f.expected : "not covered")}</td>` +
+    `<td>${escapeHtml(f.first || "-")}${f.then.length ? " (" + escapeHtml(f.then.join(", ")) + ")" : ""}</td>` +
+    `<td>${f.delay === null ? "-" : Number(f.delay).toFixed(1)}</td><td>${f.while_active ? "yes" : "no"}</td></tr>`).join("");
+}
+
 function setStatus(text, error = false) {
   const s = document.getElementById("status");
   s.textContent = text;
@@ -169,6 +191,7 @@ async function poll() {
     drawFarm(r.turbines);
     drawAlarms(r.turbines);
     await refreshTurbine();
+    await refreshReport();
     document.body.dataset.updated = String(Date.now());
     setStatus("updated " + new Date().toLocaleTimeString());
   } catch (e) {

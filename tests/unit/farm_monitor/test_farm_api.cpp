@@ -1,6 +1,7 @@
 // Unit tests of the farm monitor's HTTP API handlers (no socket): access rules, queries, errors, metrics.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -181,6 +182,26 @@ TEST_F(FarmApiTest, EstimatesOfOneServiceOldestFirstSinceAndLimited) {
   EXPECT_EQ(a->handle(get("/api/estimates", {{"turbine", "WT01"}})).status, 400);
   EXPECT_EQ(a->handle(get("/api/estimates", {{"service", "pitch_diag"}})).status, 400);
   EXPECT_EQ(a->handle(get("/api/estimates", {{"turbine", "WT01"}, {"service", "weather"}})).status, 400);
+}
+
+TEST_F(FarmApiTest, TheRunIsJudgedAgainstTheScenarioWhenOneIsKnown) {
+  EXPECT_EQ(api()->handle(get("/api/report")).status, 404);  // no scenario given
+  const std::string scenario = test::temp_dir("farm_api_report") + "/scenario.yaml";
+  std::ofstream(scenario)
+      << "duration: 60\nseed: 1\nturbines:\n  - {id: WT01, wind: {mean: 12.0}}\nfaults:\n"
+         "  - {turbine: WT01, target: pitch_actuator_3, type: hydraulic_leakage, start: 8}\n";
+  FarmApi with(db, "tok", nullptr, scenario);
+  const ApiResponse r = with.handle(get("/api/report"));
+  ASSERT_EQ(r.status, 200) << r.body;
+  const json j = json::parse(r.body);
+  ASSERT_EQ(j["faults"].size(), 1u);
+  EXPECT_EQ(j["faults"][0]["first"], "hydraulic_leakage");
+  EXPECT_EQ(j["faults"][0]["delay"], 2.0);  // raised at 10 s
+  // The leak's raise, clear and raise again are one fault; the pitch-sensor bias no injected fault explains.
+  ASSERT_EQ(j["extra"].size(), 1u);
+  EXPECT_EQ(j["extra"][0]["component"], "pitch_sensor_3");
+  // A scenario that cannot be read is an error at start, naming it.
+  EXPECT_THROW(FarmApi(db, "tok", nullptr, scenario + ".missing"), std::exception);
 }
 
 TEST(FarmStoreEstimates, PrunedBeforeTheRetention) {
