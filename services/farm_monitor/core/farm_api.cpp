@@ -103,9 +103,14 @@ FarmApi::FarmApi(const std::string& db, std::string token, AckPublisher ack, std
 }
 
 void FarmApi::update(const FarmState& state, const std::map<std::string, ServiceMetrics>& services) {
+  auto next = std::make_shared<const Picture>(Picture{state, services});  // the copy, outside the lock
   std::lock_guard<std::mutex> lock(picture_mutex_);
-  state_ = state;
-  services_ = services;
+  picture_ = std::move(next);
+}
+
+std::shared_ptr<const FarmApi::Picture> FarmApi::picture() const {
+  std::lock_guard<std::mutex> lock(picture_mutex_);
+  return picture_;
 }
 
 ApiResponse FarmApi::handle(const ApiRequest& r) {
@@ -143,9 +148,9 @@ ApiResponse FarmApi::handle(const ApiRequest& r) {
 }
 
 ApiResponse FarmApi::turbines() const {
-  std::lock_guard<std::mutex> lock(picture_mutex_);
+  const auto p = picture();
   json out = json::array();
-  for (const auto& [id, t] : state_.turbines()) {
+  for (const auto& [id, t] : p->state.turbines()) {
     // The same isolation as the live table: a report another one explains is marked secondary.
     std::vector<const FaultEvent*> raised;
     std::vector<isolation::Report> reports;
@@ -265,11 +270,11 @@ ApiResponse FarmApi::report() {
 }
 
 ApiResponse FarmApi::metrics() const {
-  std::lock_guard<std::mutex> lock(picture_mutex_);
+  const auto p = picture();
   std::ostringstream m;
   m << "# HELP windfdi_faults_active Raised fault reports per turbine and severity.\n"
        "# TYPE windfdi_faults_active gauge\n";
-  for (const auto& [id, t] : state_.turbines()) {
+  for (const auto& [id, t] : p->state.turbines()) {
     std::map<std::string, int> by_severity;
     for (const auto& name : severity_names()) by_severity[name] = 0;
     for (const auto& [key, e] : t.faults)
@@ -280,11 +285,11 @@ ApiResponse FarmApi::metrics() const {
   }
   m << "# HELP windfdi_configuration_revision The arbiter's latest configuration revision per turbine.\n"
        "# TYPE windfdi_configuration_revision counter\n";
-  for (const auto& [id, t] : state_.turbines())
+  for (const auto& [id, t] : p->state.turbines())
     m << "windfdi_configuration_revision{turbine=\"" << label(id) << "\"} " << t.revision << "\n";
   m << "# HELP windfdi_safe_stop 1 while the arbiter holds the turbine in safe stop.\n"
        "# TYPE windfdi_safe_stop gauge\n";
-  for (const auto& [id, t] : state_.turbines())
+  for (const auto& [id, t] : p->state.turbines())
     m << "windfdi_safe_stop{turbine=\"" << label(id) << "\"} " << (t.mode == "safe_stop" ? 1 : 0) << "\n";
   // Per service and turbine (a farm-wide instance has turbine "*"), from its last ServiceHealth.
   struct Counter {
@@ -309,7 +314,7 @@ ApiResponse FarmApi::metrics() const {
   };
   for (const auto& c : counters) {
     m << "# HELP " << c.name << " " << c.help << "\n# TYPE " << c.name << " " << c.type << "\n";
-    for (const auto& [key, s] : services_) {
+    for (const auto& [key, s] : p->services) {
       const auto slash = key.find('/');
       char value[64];
       std::snprintf(value, sizeof value, "%.17g", c.value(s));

@@ -69,9 +69,15 @@ class FarmApi {
   std::string token_;
   AckPublisher ack_;
   std::string scenario_;
+  // The picture is replaced whole, never changed in place: a request holds its own reference while it builds
+  // its answer, so the DDS loop's update() waits only for a pointer swap, not for a request.
+  struct Picture {
+    FarmState state;
+    std::map<std::string, ServiceMetrics> services;  // "turbine/service"
+  };
+  std::shared_ptr<const Picture> picture() const;
   mutable std::mutex picture_mutex_;
-  FarmState state_;
-  std::map<std::string, ServiceMetrics> services_;  // "turbine/service"
+  std::shared_ptr<const Picture> picture_ = std::make_shared<Picture>();
   std::mutex store_mutex_;
   std::unique_ptr<FarmStore> store_;
 };
