@@ -136,7 +136,10 @@ void FarmNode::store_estimates(double now) {
            {{"inertia", e.inertia()},
             {"inertia_clean", e.inertia_clean()},
             {"ice_mass", e.ice_mass()},
-            {"excited", e.excited()}},
+            {"excited", e.excited()},
+            {"warning_rise", e.warning_rise()},
+            {"fault_rise", e.fault_rise()},
+            {"critical_rise", e.critical_rise()}},
            now);
   for (const auto& e : drive)
     sample(e.turbine_id(), "drive_train", e.t(),

@@ -47,6 +47,14 @@ ServiceSpec ice_detect_spec() {
       // The clean rotor's inertia J0 goes to the bus only (the arbiter's ice-adapted gains); a replay
       // reads it from the configuration.
       {{}, nullptr, [](const E& e, Idl& o) { o.inertia_clean(e.inertia_clean); }},
+      // The configured levels, bus only, so that a plot of the estimate shows this turbine's own thresholds.
+      {{},
+       nullptr,
+       [state](const E&, Idl& o) {
+         o.warning_rise(state->config.warning_rise);
+         o.fault_rise(state->config.fault_rise);
+         o.critical_rise(state->config.critical_rise);
+       }},
   };
   s.configure = [state](const YamlSection& cfg) {
     state->turbine = configured_turbine(cfg);

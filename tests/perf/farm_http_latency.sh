@@ -5,7 +5,8 @@
 # last 30 minutes of pitch_diag) and /metrics, REQUESTS times each, one after the other, and prints the
 # p50 / p99 / max latency of each in ms, with a static file of the page (/farm.css: no lock, no database) as
 # the same run's baseline. The DDS side is watched too: the farm monitor must have stored estimates of every
-# turbine (it kept up while being asked).
+# turbine (it kept up while being asked). Then the page itself is rendered 3 times in the headless browser the
+# tests use, and the tiles it drew are counted.
 #
 # Usage: farm_http_latency.sh [N=200] [REQUESTS=300] [WARMUP=20]
 set -euo pipefail
@@ -61,4 +62,16 @@ turbines = json.loads(get("/api/turbines")[1])["turbines"]
 stored = sum(1 for i in range(1, n + 1) if json.loads(get(f"/api/estimates?turbine=T{i:03d}&service=sensor_bias&limit=1")[1])["estimates"])
 print(f"turbines in the farm view: {len(turbines)} of {n}; turbines with stored sensor_bias estimates: {stored} of {n}")
 EOF
+# The page itself in the headless browser the tests use: the farm view of every turbine, drawn from its data.
+browser=$(command -v chromium-headless-shell || command -v chromium || true)
+if [ -n "$browser" ]; then
+  for run in 1 2 3; do
+    start=$(date +%s.%N)
+    "$browser" --no-sandbox --disable-gpu --user-data-dir="$work/browser" --virtual-time-budget=1500 --dump-dom \
+      "$url" > "$work/dom.html" 2>/dev/null
+    end=$(date +%s.%N)
+    echo "page in the browser (run $run): $(grep -o 'class="tile"' "$work/dom.html" | wc -l) of $n tiles drawn," \
+      "$(awk -v a="$start" -v b="$end" 'BEGIN {printf "%.2f", b - a}') s from start to the rendered DOM (browser start included)"
+  done
+fi
 echo "farm_http_latency: load average at the end: $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -93,8 +93,6 @@ async function openTurbine(id) {
 // The paper's Table 1 (Wu & Li): omega_n (rad/s) and zeta of the healthy actuator and of each fault.
 const table1 = { healthy: [11.11, 0.6], pump_wear: [7.27, 0.75], hydraulic_leakage: [3.42, 0.9],
   high_air_content: [5.73, 0.45] };
-// ice_detect's shipped levels (deploy/config/ice_detect.yaml: warning_rise, fault_rise, critical_rise).
-const iceLevels = { warning: 0.0465, fault: 0.0684, critical: 0.123 };
 const graphs = {};
 
 // One plot: rows [Date, v1, v2, ...]; `dashed` names the reference series.
@@ -133,11 +131,12 @@ async function refreshEstimates() {
     pitch.map((e) => [when(e), ...e.zeta, ...refs(1)]), refNames);
   plot("plot-bias-pitch", blades.map((b) => "pitch " + b), bias.map((e) => [when(e), ...e.bias_pitch]));
   plot("plot-bias-bound", ["bound ratio", "threshold"], bias.map((e) => [when(e), e.bound_ratio, 1.0]), ["threshold"]);
-  const levelNames = Object.keys(iceLevels);
-  plot("plot-inertia", ["inertia", "clean J0", ...levelNames],
+  // The levels ice_detect is configured with on this turbine (its estimate carries them).
+  const levels = ["warning", "fault", "critical"];
+  plot("plot-inertia", ["inertia", "clean J0", ...levels],
     // No estimate yet (0): a gap, not a value.
     ice.map((e) => [when(e), e.inertia > 0 ? e.inertia : null, e.inertia_clean,
-      ...Object.values(iceLevels).map((r) => e.inertia_clean * (1 + r))]), ["clean J0", ...levelNames]);
+      ...levels.map((l) => e.inertia_clean * (1 + e[l + "_rise"]))]), ["clean J0", ...levels]);
   plot("plot-blade", [...blades.map((b) => "gauge " + b), ...blades.map((b) => "LIDAR model " + b)],
     blade.map((e) => [when(e), ...e.a1_sensor.map((v) => v / 1e3), ...e.a1_model.map((v) => v / 1e3)]));
 }
