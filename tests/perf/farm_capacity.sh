@@ -12,33 +12,12 @@
 # Usage: farm_capacity.sh [SECONDS=30] [N ...=5 10 20 40 80]   (stops at the first N that does not keep up)
 # Binaries: $WINDFDI_BIN (default build/bin); system_latency from $SYSTEM_LATENCY_BIN or $WINDFDI_BIN.
 set -euo pipefail
-top=$(cd "$(dirname "$0")/../.." && pwd)
-# The diagnostic services of the registry, as executable suffixes (blade-load, ...).
-services=$(awk '!/^[[:space:]]*(#|$)/ {gsub("_", "-", $1); print $1}' "$top/services/services.list")
-bin=${WINDFDI_BIN:-$top/build/bin}
+. "$(dirname "$0")/dds_run.sh"
 meter=${SYSTEM_LATENCY_BIN:-$bin/system_latency}
 secs=${1:-30}; shift || true
 list=("$@"); [ ${#list[@]} -gt 0 ] || list=(5 10 20 40 80)
 warm=10
-domain=$(( 150 + $$ % 50 ))
-export WINDFDI_DOMAIN=$domain WINDFDI_PARTICIPANT_PROFILE=windfdi_participant_loopback
-unset FASTRTPS_DEFAULT_PROFILES_FILE ROS_DISCOVERY_SERVER FASTDDS_ENVIRONMENT_FILE WINDFDI_QOS_FILE
 ticks=$(getconf CLK_TCK)
-work=$(mktemp -d)
-pids=()
-stop_all() {
-  for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
-  sleep 1
-  for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done
-  pids=()
-  for off in $(seq 0 249); do
-    port=$(( 7400 + 250 * domain + off ))
-    rm -f /dev/shm/fastrtps_port$port /dev/shm/fastrtps_port${port}_el /dev/shm/sem.fastrtps_port${port}_mutex
-  done
-}
-cleanup() { stop_all; [ -n "${KEEP_WORK:-}" ] && echo "logs kept in $work" || rm -rf "$work"; }
-trap cleanup EXIT
-trap 'exit 130' INT TERM
 cpu_of() { awk '{print $14+$15}' "/proc/$1/stat" 2>/dev/null || echo 0; }
 
 echo "farm_capacity: domain $domain, ${secs} s per N (window after ${warm} s), load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
@@ -49,13 +28,7 @@ for n in "${list[@]}"; do
     for i in $(seq 1 "$n"); do printf '  - {id: T%03d, wind: {mean: %d.0, turbulence_intensity: 0.1}}\n' "$i" $(( 8 + i % 12 )); done
   } > "$work/farm$n.yaml"
   declare -A pid_of=()
-  for service in $services; do
-    "$bin/windfdi-$service" --config "$top/deploy/config/${service//-/_}.yaml" --log-level warn \
-      > "$work/$service.$n.log" 2>&1 &
-    pids+=($!); pid_of[$service]=$!
-  done
-  "$bin/windfdi-arbiter" --config "$top/deploy/config/arbiter.yaml" --log-level warn > "$work/arbiter.$n.log" 2>&1 &
-  pids+=($!); pid_of[arbiter]=$!
+  start_services "$top/deploy/config/arbiter.yaml" ".$n"
   "$meter" --mode health --domain "$domain" --turbines "$n" --duration "$(( secs + 2 ))" --warmup "$(( warm + 2 ))" \
     > "$work/health.$n.out" 2>&1 &
   meter_pid=$!; pids+=($meter_pid)

@@ -20,13 +20,7 @@ warm=${3:-20}
   for i in $(seq 1 "$n"); do printf '  - {id: T%03d, wind: {mean: %d.0, turbulence_intensity: 0.1}}\n' "$i" $(( 8 + i % 12 )); done
 } > "$work/farm.yaml"
 echo "farm_http_latency: $n turbines, domain $domain, load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
-for service in $services; do
-  "$bin/windfdi-$service" --config "$top/deploy/config/${service//-/_}.yaml" --log-level warn \
-    > "$work/$service.log" 2>&1 &
-  pids+=($!)
-done
-"$bin/windfdi-arbiter" --config "$top/deploy/config/arbiter.yaml" --log-level warn > "$work/arbiter.log" 2>&1 &
-pids+=($!)
+start_services "$top/deploy/config/arbiter.yaml"
 "$bin/windfdi-farm" --db "$work/farm.sqlite" --table-period 0 --http 0 > "$work/farm.out" 2> "$work/farm.log" &
 pids+=($!)
 for _ in $(seq 100); do grep -q "API on" "$work/farm.log" 2>/dev/null && break; sleep 0.1; done

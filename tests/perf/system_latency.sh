@@ -38,13 +38,7 @@ for i in range(n):
 EOF
 sed 's/^clear_hold:.*/clear_hold: 1.0/' "$top/deploy/config/arbiter.yaml" > "$work/arbiter.yaml"
 
-for service in $services; do
-  "$bin/windfdi-$service" --config "$top/deploy/config/${service//-/_}.yaml" --log-level warn \
-    > "$work/$service.log" 2>&1 &
-  pids+=($!)
-done
-"$bin/windfdi-arbiter" --config "$work/arbiter.yaml" --log-level warn > "$work/arbiter.log" 2>&1 &
-pids+=($!)
+start_services "$work/arbiter.yaml"
 "$meter" --mode latency --domain "$domain" --duration "$secs" > "$work/meter.out" 2> "$work/meter.err" &
 meter_pid=$!
 pids+=($meter_pid)
