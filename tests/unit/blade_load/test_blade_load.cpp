@@ -732,7 +732,9 @@ std::string run_witness_tests(Witness witness, bool gauge_fault) {
       }
     }
     tests.revolution(t, revolution_time, x, true);
-    if (k == learn_revolutions) EXPECT_TRUE(tests.healthy().learned(kModelChannel));
+    if (k == learn_revolutions) {
+      EXPECT_TRUE(tests.healthy().learned(kModelChannel));
+    }
     for (int i = 0; i < 40; ++i) {
       events.clear();
       tests.tick(t + 0.1 * i, revolution_time, x, e, true, events);

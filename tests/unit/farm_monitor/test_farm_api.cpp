@@ -301,7 +301,9 @@ TEST_F(FarmApiTest, MetricsInThePrometheusTextFormat) {
   // Every sample line is "name{labels} value".
   std::istringstream lines(r.body);
   for (std::string l; std::getline(lines, l);)
-    if (!l.empty() && l[0] != '#') EXPECT_NE(l.find("} "), std::string::npos) << l;
+    if (!l.empty() && l[0] != '#') {
+      EXPECT_NE(l.find("} "), std::string::npos) << l;
+    }
 }
 
 }  // namespace

@@ -22,6 +22,12 @@ struct Served {
   FarmApi api{dir + "/farm.sqlite", "tok", nullptr};
 };
 
+HttpOptions listening_on(const std::string& listen) {
+  HttpOptions o;
+  o.listen = listen;
+  return o;
+}
+
 int port_of(const std::string& url) { return std::atoi(url.substr(url.rfind(':') + 1).c_str()); }
 
 TEST(FarmHttp, ServesThePageAndTheApiOnLocalhost) {
@@ -35,7 +41,7 @@ TEST(FarmHttp, ServesThePageAndTheApiOnLocalhost) {
   e.severity = "warning";
   state.on_fault(e);
   s.api.update(state, {});
-  FarmHttp http({"0"}, s.api);
+  FarmHttp http(listening_on("0"), s.api);
   ASSERT_EQ(http.url().rfind("http://127.0.0.1:", 0), 0u) << http.url();
   httplib::Client client("127.0.0.1", port_of(http.url()));
   const auto page = client.Get("/");
@@ -68,8 +74,7 @@ TEST(FarmHttp, HttpsWithACertificateAndNoPlainHttp) {
   const std::string cmd = "openssl req -x509 -newkey rsa:2048 -nodes -days 1 -subj /CN=127.0.0.1 -keyout " +
                           key + " -out " + cert + " >/dev/null 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0);
-  HttpOptions o;
-  o.listen = "127.0.0.1:0";
+  HttpOptions o = listening_on("127.0.0.1:0");
   o.cert = cert;
   o.key = key;
   FarmHttp http(o, s.api);
@@ -89,16 +94,17 @@ TEST(FarmHttp, BadOptionsAreClearErrors) {
   Served s;
   for (const std::string listen : {"eighty", "127.0.0.1:", ":8080", "127.0.0.1:70000", "127.0.0.1:-1"}) {
     try {
-      FarmHttp http({listen}, s.api);
+      FarmHttp http(listening_on(listen), s.api);
       ADD_FAILURE() << listen << " was accepted";
     } catch (const ConfigError& e) {
       EXPECT_EQ(e.file(), "--http") << listen;
     }
   }
   // An address this machine does not have.
-  EXPECT_THROW(FarmHttp({"192.0.2.1:0"}, s.api), ConfigError);
+  EXPECT_THROW(FarmHttp(listening_on("192.0.2.1:0"), s.api), ConfigError);
   // A certificate without its key, or one that is not a certificate.
-  HttpOptions o{"0", "", s.dir + "/none.pem", ""};
+  HttpOptions o = listening_on("0");
+  o.cert = s.dir + "/none.pem";
   EXPECT_THROW(FarmHttp(o, s.api), ConfigError);
   std::ofstream(s.dir + "/junk.pem") << "not a certificate\n";
   o.cert = o.key = s.dir + "/junk.pem";
