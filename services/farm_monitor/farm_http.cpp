@@ -132,14 +132,12 @@ FarmHttp::FarmHttp(const HttpOptions& options, FarmApi& api) {
   };
   svr.Get(".*", serve);
   svr.Post(".*", serve);
-  for (const char* method : {"PUT", "DELETE", "PATCH"}) {
-    const auto refuse = [method](const httplib::Request& req, httplib::Response& res) {
-      send(res, api_error(405, std::string("method ") + method + " not allowed on " + req.path));
-    };
-    if (std::string(method) == "PUT") svr.Put(".*", refuse);
-    if (std::string(method) == "DELETE") svr.Delete(".*", refuse);
-    if (std::string(method) == "PATCH") svr.Patch(".*", refuse);
-  }
+  const auto refuse = [](const httplib::Request& req, httplib::Response& res) {
+    send(res, api_error(405, "method " + req.method + " not allowed on " + req.path));
+  };
+  svr.Put(".*", refuse);
+  svr.Delete(".*", refuse);
+  svr.Patch(".*", refuse);
   // Whatever httplib itself refuses (a malformed request line, a body past the limit) gets a JSON error too.
   svr.set_error_handler([](const httplib::Request&, httplib::Response& res) {
     if (res.body.empty())

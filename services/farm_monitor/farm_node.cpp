@@ -181,21 +181,16 @@ void FarmNode::handle(double now) {
     if (c.alive) continue;
     lost_any = true;
     spdlog::warn("{}: service {} lost (liveliness)", c.turbine_id, c.service);
-    service_state_[c.turbine_id + "/" + c.service] = "lost";
+    metrics_[c.turbine_id + "/" + c.service].state = "lost";
     store_.add_health({now, c.turbine_id, c.service, "lost", "liveliness lost"});
     state_.on_service_lost(c.turbine_id, c.service);
-    metrics_[c.turbine_id + "/" + c.service].state = "lost";
   }
   for (const auto& h : health) {
     const std::string state = pick(kServiceStates, h.state());
-    const std::string key = h.turbine_id() + "/" + h.service();
-    if (service_state_[key] != state) {
-      service_state_[key] = state;
-      store_.add_health({now, h.turbine_id(), h.service(), state, h.detail()});
-    }
+    ServiceMetrics& m = metrics_[h.turbine_id() + "/" + h.service()];
+    if (m.state != state) store_.add_health({now, h.turbine_id(), h.service(), state, h.detail()});
+    m = {state, h.samples_in(), h.samples_rejected(), h.sequence_gaps(), h.deadlines_missed(), h.lag()};
     state_.on_service(h.turbine_id(), h.service(), state);
-    metrics_[key] = {state,  h.samples_in(), h.samples_rejected(), h.sequence_gaps(), h.deadlines_missed(),
-                     h.lag()};
   }
   store_estimates(now);
   // The web side gets a copy only when something came in (200 turbines' picture is copied in well under 1

@@ -67,8 +67,8 @@ class FarmNode {
   std::vector<EstimateRecord> estimate_batch_;
   double pruned_at_ = 0.0;
   ServiceLiveliness liveliness_;
-  std::map<std::string, std::string> service_state_;  // turbine/service -> last state stored
-  std::map<std::string, ServiceMetrics> metrics_;     // turbine/service -> its last health, for /metrics
+  std::map<std::string, ServiceMetrics>
+      metrics_;  // turbine/service -> its last health (state stored, /metrics)
   // The web side (with --http): destroyed first, so no request reaches a node being torn down.
   std::unique_ptr<bus::Writer<windfdi::FaultAck>> acks_;
   std::unique_ptr<FarmApi> api_;

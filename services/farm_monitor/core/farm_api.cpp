@@ -7,7 +7,6 @@
 #include <sstream>
 
 #include "fault_report.hpp"
-#include "isolation.hpp"
 #include "names.hpp"
 #include "yaml_config.hpp"
 
@@ -126,24 +125,31 @@ ApiResponse FarmApi::handle(const ApiRequest& r) {
     if (!is_loopback(r.remote_addr))
       return api_error(401, "remote access needs the operator token (Authorization: Bearer <token>)");
   }
-  try {
-    if (r.path == "/api/turbines" && r.method == "GET") return turbines();
-    if (r.path == "/api/faults" && r.method == "GET") return faults(r);
-    if (r.path == "/api/history" && r.method == "GET") return history(r);
-    if (r.path == "/api/estimates" && r.method == "GET") return estimates(r);
-    if (r.path == "/api/ack" && r.method == "POST") return ack(r);
-    if (r.path == "/metrics" && r.method == "GET") return metrics();
-    if (r.path == "/api/report" && r.method == "GET") return report();
-  } catch (const std::invalid_argument& e) {
-    return api_error(400, e.what());
-  } catch (const ConfigError& e) {
-    return api_error(400, e.what());
-  } catch (const std::exception& e) {
-    return api_error(500, e.what());
+  // Each resource once: its path, its method and what answers it.
+  const struct {
+    const char* path;
+    const char* method;
+    std::function<ApiResponse()> answer;
+  } routes[] = {{"/api/turbines", "GET", [&] { return turbines(); }},
+                {"/api/faults", "GET", [&] { return faults(r); }},
+                {"/api/history", "GET", [&] { return history(r); }},
+                {"/api/estimates", "GET", [&] { return estimates(r); }},
+                {"/api/ack", "POST", [&] { return ack(r); }},
+                {"/api/report", "GET", [&] { return report(); }},
+                {"/metrics", "GET", [&] { return metrics(); }}};
+  for (const auto& route : routes) {
+    if (r.path != route.path) continue;
+    if (r.method != route.method) return api_error(405, "method " + r.method + " not allowed on " + r.path);
+    try {
+      return route.answer();
+    } catch (const std::invalid_argument& e) {
+      return api_error(400, e.what());
+    } catch (const ConfigError& e) {
+      return api_error(400, e.what());
+    } catch (const std::exception& e) {
+      return api_error(500, e.what());
+    }
   }
-  for (const char* known : {"/api/turbines", "/api/faults", "/api/history", "/api/estimates", "/api/ack",
-                            "/api/report", "/metrics"})
-    if (r.path == known) return api_error(405, "method " + r.method + " not allowed on " + r.path);
   return api_error(404, "no such resource: " + r.path);
 }
 
@@ -152,19 +158,11 @@ ApiResponse FarmApi::turbines() const {
   json out = json::array();
   for (const auto& [id, t] : p->state.turbines()) {
     // The same isolation as the live table: a report another one explains is marked secondary.
-    std::vector<const FaultEvent*> raised;
-    std::vector<isolation::Report> reports;
-    for (const auto& [key, e] : t.faults)
-      if (e.raised) {
-        raised.push_back(&e);
-        reports.push_back({e.source, e.component, e.fault, e.t_detected});
-      }
-    const auto verdicts = isolation::isolate(reports);
     json faults = json::array();
-    for (std::size_t i = 0; i < raised.size(); ++i) {
-      json f = fault_json(*raised[i]);
-      f["secondary"] = verdicts[i].secondary;
-      f["explained_by"] = verdicts[i].explained_by;
+    for (const auto& [e, verdict] : p->state.raised(id)) {
+      json f = fault_json(*e);
+      f["secondary"] = verdict.secondary;
+      f["explained_by"] = verdict.explained_by;
       faults.push_back(f);
     }
     json services = json::object();

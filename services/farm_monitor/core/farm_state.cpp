@@ -5,8 +5,6 @@
 #include <cstdio>
 #include <sstream>
 
-#include "isolation.hpp"
-
 namespace windfdi::farm {
 
 void FarmState::on_fault(const FaultEvent& e) {
@@ -35,24 +33,29 @@ void FarmState::on_service_lost(const std::string& turbine_id, const std::string
   on_service(turbine_id, service, "lost");
 }
 
+std::vector<ActiveFault> FarmState::raised(const std::string& turbine_id) const {
+  std::vector<ActiveFault> out;
+  const auto it = turbines_.find(turbine_id);
+  if (it == turbines_.end()) return out;
+  // The same isolation as the arbiter's: a report another one explains is secondary.
+  std::vector<isolation::Report> reports;
+  for (const auto& [key, e] : it->second.faults)
+    if (e.raised) {
+      out.push_back({&e, {}});
+      reports.push_back({e.source, e.component, e.fault, e.t_detected});
+    }
+  const auto verdicts = isolation::isolate(reports);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i].verdict = verdicts[i];
+  return out;
+}
+
 std::vector<std::string> FarmState::active_faults(const std::string& turbine_id) const {
   std::vector<std::string> out;
   const auto it = turbines_.find(turbine_id);
   if (it == turbines_.end()) return out;
-  // The same isolation as the arbiter's: a report another one explains is shown as secondary.
-  std::vector<const FaultEvent*> raised;
-  std::vector<isolation::Report> reports;
-  for (const auto& [key, e] : it->second.faults)
-    if (e.raised) {
-      raised.push_back(&e);
-      reports.push_back({e.source, e.component, e.fault, e.t_detected});
-    }
-  const auto verdicts = isolation::isolate(reports);
-  for (std::size_t i = 0; i < raised.size(); ++i) {
-    const FaultEvent& e = *raised[i];
-    out.push_back(e.component + " " + e.fault + " (" + e.severity + ")" +
-                  (verdicts[i].secondary ? ", secondary: explained by " + verdicts[i].explained_by : ""));
-  }
+  for (const auto& [e, verdict] : raised(turbine_id))
+    out.push_back(e->component + " " + e->fault + " (" + e->severity + ")" +
+                  (verdict.secondary ? ", secondary: explained by " + verdict.explained_by : ""));
   for (const auto& [service, state] : it->second.services)
     if (state == "lost") out.push_back(service + " service_lost");
   return out;

@@ -162,9 +162,12 @@ let reportAt = 0;
 async function refreshReport() {
   if (Date.now() - reportAt < 10000) return;
   reportAt = Date.now();
-  const response = await fetch("/api/report", { headers: tokenInput.value ? { Authorization: "Bearer " + tokenInput.value } : {} });
-  if (!response.ok) return;  // no scenario: no section
-  const r = await response.json();
+  let r;
+  try {
+    r = await api("/api/report");
+  } catch (e) {
+    return;  // no scenario: no section
+  }
   document.getElementById("report").hidden = false;
   const right = r.faults.filter((f) => f.expected && f.first === f.expected).length;
   const covered = r.faults.filter((f) => f.expected).length;
