@@ -333,7 +333,9 @@ TEST_P(RestartedService, ARestartOnARunningTurbineRaisesNothingAndTheRealFaultIs
   // all), but not always on a loaded machine (CI once saw the loss first): then the derate must be withdrawn
   // as after any loss. The defect this guards against left it on for good.
   std::cout << "[ measured ] loss seen by the arbiter: " << (derated ? "yes" : "no") << "\n";
-  if (r.loss_noticed) EXPECT_TRUE(derated) << farm.configs->stdout_text();
+  if (r.loss_noticed) {
+    EXPECT_TRUE(derated) << farm.configs->stdout_text();
+  }
   EXPECT_EQ(normal_again, derated) << farm.configs->stdout_text();
   EXPECT_TRUE(stopped) << farm.configs->stdout_text() << farm.logs();
 }

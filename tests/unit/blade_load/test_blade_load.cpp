@@ -219,7 +219,9 @@ TEST(PlantAmplitude, SteadyWindWithinFivePercentOfTruth) {
     // to the mean true amplitude there.
     std::printf("[measured] steady %g m/s: rms amplitude error %.4f relative, %.0f N m\n", wind, r.rms_error,
                 r.rms_abs);
-    if (wind < 18.0) EXPECT_LT(r.rms_error, 0.05) << wind;
+    if (wind < 18.0) {
+      EXPECT_LT(r.rms_error, 0.05) << wind;
+    }
     // At 20 m/s the true amplitude is about 1e3 N m (0.03 % of the 4e6 N m mean load): the estimate must sit
     // at the noise floor, 2e4 N m / sqrt(samples per revolution) ~ 1.5e3 N m.
     else
