@@ -1,6 +1,7 @@
 // Ice accretion and shedding on one turbine's rotor from its estimated inertia (Stotsky & Egardt 2013).
 #pragma once
 
+#include <cmath>
 #include <deque>
 #include <string>
 #include <vector>
@@ -34,8 +35,13 @@ struct DetectorConfig {
   /// s of them above the warning level before a rotor with no ice reported gets its first report, always the
   /// warning (further levels then take confirm_time each)
   double first_confirm_time = 60.0;
-  double clear_time = 30.0;  ///< s below the clear level before a raised level clears
-  double clear_ratio = 0.7;  ///< a level clears below this share of its threshold (hysteresis)
+  /// The first warning also needs a rise of this many standard deviations of the clean rotor's estimate,
+  /// learned from its fall below J0 (ice only raises the inertia, so that half is the estimator's error
+  /// alone); 0: warning_rise alone
+  double warning_sigmas = 3.5;
+  double warning_noise_time = 1800.0;  ///< s of fresh estimates remembered for it; used after a third of it
+  double clear_time = 30.0;            ///< s below the clear level before a raised level clears
+  double clear_ratio = 0.7;            ///< a level clears below this share of its threshold (hysteresis)
   double shed_power_step =
       0.01;                   ///< rise of the power model's calibration in one step that is shedding (0: off)
   double ice_cp_loss = 0.02;  ///< share of Cp an iced rotor loses per tonne (sizes a shedding from its Cp)
@@ -126,6 +132,12 @@ class IceDetector {
   double fast_sd() const { return 1.2533 * fast_deviation_; }
   /// It is used once a third of shed_noise_time of quiet seconds has been learned.
   bool noise_learned() const { return fast_learned_ >= cfg_.shed_noise_time / 3.0; }
+  double below_square_ = 0.0;   // mean of min(rise, 0)^2 of fresh estimates while no ice is reported
+  double below_learned_ = 0.0;  // s of it (warning_noise_time memory)
+  /// The clean rotor's estimate's standard deviation (share of J0): twice the lower half's mean square.
+  double clean_sd() const { return std::sqrt(2.0 * below_square_); }
+  /// The rise the first warning needs.
+  double first_warning_rise() const;
   struct SlowPoint {
     double t, inertia;
     bool iced;  // ice was reported then at severity fault or above
