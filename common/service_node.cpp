@@ -15,7 +15,8 @@ DiagnosticNode::DiagnosticNode(const CommonOptions& options, const std::string& 
       faults_(participant_),
       health_(participant_, service, options.turbines),
       other_faults_(participant_, options.turbines, &wakeup_),
-      configurations_(participant_, options.turbines, &wakeup_) {}
+      configurations_(participant_, options.turbines, &wakeup_),
+      trace_(service) {}
 
 const InputContext& DiagnosticNode::context(const std::string& turbine_id) {
   return contexts_.try_emplace(turbine_id, service_).first->second.context();
@@ -58,6 +59,14 @@ void DiagnosticNode::subscribe_lidar(LidarFn on_lidar) {
 }
 
 void DiagnosticNode::publish(const FaultEvent& e) {
+  if (trace_.on()) {
+    const std::string key = HopTrace::report_key(e.component, e.fault, e.t);
+    trace_.record("frame_write", e.turbine_id, key, frame_meta_.source_time);
+    trace_.record("frame_receive", e.turbine_id, key, frame_meta_.reception_time);
+    trace_.record("frame_wake", e.turbine_id, key, frame_woke_);
+    trace_.record("frame_take", e.turbine_id, key, frame_taken_);
+    trace_.record("report_write", e.turbine_id, key, wall_time());
+  }
   try {
     if (!faults_.write(bus::to_idl(e))) spdlog::error("fault report not written (DDS resource limits?)");
   } catch (const std::invalid_argument& err) {
@@ -76,6 +85,7 @@ void DiagnosticNode::run(const SampleFn& process) {
   std::vector<windfdi::LidarFrame> lidar;
   while (!shutdown_requested()) {
     wakeup_.wait_for(std::chrono::milliseconds(100));
+    const double woke = wall_time();
     take_context();
     if (lidar_) {
       lidar.clear();
@@ -86,8 +96,11 @@ void DiagnosticNode::run(const SampleFn& process) {
     meta.clear();
     frames_.take(frames, &meta);
     const double now = wall_time();
+    frame_woke_ = woke;
+    frame_taken_ = now;
     for (std::size_t i = 0; i < frames.size(); ++i) {
       const std::string& id = frames[i].turbine_id();
+      frame_meta_ = meta[i];
       auto& tracker = sequence_[id];
       for (const auto& s : frames[i].samples()) {
         const uint64_t lost = tracker.lost_before(s.sequence());

@@ -16,6 +16,7 @@
 #include "fault_event.hpp"
 #include "frame_sample.hpp"
 #include "health.hpp"
+#include "hop_trace.hpp"
 #include "input_context.hpp"
 #include "replay.hpp"
 
@@ -64,6 +65,10 @@ class DiagnosticNode {
   void take_context();
   LidarFn on_lidar_;
   std::map<std::string, SequenceTracker> sequence_;
+  HopTrace trace_;
+  // The frame being processed (its write, reception and take times): a report's decisive frame.
+  bus::SampleMeta frame_meta_;
+  double frame_woke_ = 0.0, frame_taken_ = 0.0;
 };
 
 }  // namespace windfdi

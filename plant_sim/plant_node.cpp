@@ -16,6 +16,7 @@
 #include "dds/endpoints.hpp"
 #include "deploy_dir.hpp"
 #include "health.hpp"
+#include "hop_trace.hpp"
 #include "replay_csv.hpp"
 #include "sensor_bias_estimate_topic.hpp"
 #include "turbine_sim.hpp"
@@ -59,6 +60,7 @@ struct Bus {
   bus::Reader<windfdi::ControlConfiguration> configs;
   bus::Reader<windfdi::SensorBiasEstimate> bias;
   HealthReporter health;
+  HopTrace trace{"plant"};
 };
 
 struct TurbineRun {
@@ -157,6 +159,12 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
         if (it == runs.end()) continue;
         TurbineRun& r = it->second;
         r.config_writer = config_meta[i].writer;
+        // The configuration acts from this control step on (r.sim->step below).
+        if (dds->trace.on() && c.revision() != r.config_revision) {
+          const std::string key = std::to_string(c.revision());
+          dds->trace.record("config_receive", c.turbine_id(), key, config_meta[i].reception_time);
+          dds->trace.record("config_apply", c.turbine_id(), key, wall_time());
+        }
         if (c.revision() != r.config_revision || c.arbiter_id() != r.arbiter)
           spdlog::info("{}: applying configuration r{} from {}: mode {}, ipc {}", c.turbine_id(),
                        c.revision(), c.arbiter_id(), static_cast<int>(c.mode()),

@@ -151,6 +151,7 @@ class Writer : private eprosima::fastdds::dds::DataWriterListener {
 struct SampleMeta {
   eprosima::fastrtps::rtps::InstanceHandle_t writer;  ///< publication handle of the writer
   double source_time = 0.0;                           ///< writer's time stamp (s since the Unix epoch)
+  double reception_time = 0.0;  ///< when DDS put it in this reader's history (s since the Unix epoch)
 };
 
 /// Liveliness of the writers a reader follows: who came, who went (by publication handle).
@@ -203,7 +204,8 @@ class Reader : private eprosima::fastdds::dds::DataReaderListener {
       if (!wanted_.empty() && !wanted_.count(sample.turbine_id())) continue;
       out.push_back(sample);
       if (meta)
-        meta->push_back({info.publication_handle, static_cast<double>(info.source_timestamp.to_ns()) * 1e-9});
+        meta->push_back({info.publication_handle, static_cast<double>(info.source_timestamp.to_ns()) * 1e-9,
+                         static_cast<double>(info.reception_timestamp.to_ns()) * 1e-9});
       ++n;
     }
     return n;

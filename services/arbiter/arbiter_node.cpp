@@ -52,7 +52,8 @@ ArbiterNode::ArbiterNode(const CommonOptions& common, const ArbiterConfig& confi
       config_out_(
           participant_, "control",
           [&](eprosima::fastdds::dds::DataWriterQos& q) { q.ownership_strength().value = options.strength; }),
-      health_(participant_, "arbiter", common.turbines) {}
+      health_(participant_, "arbiter", common.turbines),
+      trace_("arbiter") {}
 
 bool ArbiterNode::serves(const std::string& id) const {
   return id != "*" && (common_.turbines.empty() || std::find(common_.turbines.begin(), common_.turbines.end(),
@@ -62,7 +63,7 @@ bool ArbiterNode::serves(const std::string& id) const {
 ArbiterNode::Turbine& ArbiterNode::turbine(const std::string& id) {
   auto it = turbines_.find(id);
   if (it == turbines_.end()) {
-    it = turbines_.emplace(id, Turbine{Arbiter(config_), {}, 0, -1e300, {}}).first;
+    it = turbines_.emplace(id, Turbine{Arbiter(config_), {}, 0, -1e300, {}, {}}).first;
     spdlog::info("arbitrating turbine {}", id);
   }
   return it->second;
@@ -76,12 +77,21 @@ void ArbiterNode::handle_inputs(double wall) {
     if (serves(est.turbine_id()) && std::isfinite(est.t()))
       turbine(est.turbine_id()).clock.observe(est.t(), wall);
   std::vector<windfdi::FaultReport> reports;
-  faults_.take(reports);
-  for (const auto& r : reports) {
+  std::vector<bus::SampleMeta> meta;
+  faults_.take(reports, &meta);
+  const double taken = wall_time();
+  for (std::size_t i = 0; i < reports.size(); ++i) {
+    const auto& r = reports[i];
     if (!serves(r.turbine_id())) continue;
     health_.count_in(r.turbine_id());
     const FaultEvent e = bus::to_event(r);
     Turbine& t = turbine(r.turbine_id());
+    if (trace_.on()) {
+      const std::string key = HopTrace::report_key(e.component, e.fault, e.t);
+      trace_.record("report_receive", r.turbine_id(), key, meta[i].reception_time);
+      trace_.record("report_take", r.turbine_id(), key, taken);
+      t.traced_reports.push_back(key);
+    }
     if (std::isfinite(e.t)) t.clock.observe(e.t, wall);
     if (!t.arbiter.on_fault(e, t.clock.now(wall))) {
       health_.count_rejected(r.turbine_id());
@@ -127,20 +137,28 @@ void ArbiterNode::publish_configurations(double wall) {
   for (auto& [id, t] : turbines_) {
     const double now = t.clock.now(wall);
     const Configuration c = t.arbiter.evaluate(now);
+    // The reports taken in this pass change the configuration now or not at all (a held decision changes it
+    // later, from the timer).
+    std::vector<std::string> traced;
+    traced.swap(t.traced_reports);
     const bool changed = c != t.last || t.revision == 0;
     if (!changed && wall - t.last_published < options_.republish_period) continue;
+    if (changed) ++t.revision;
+    t.last = c;
+    t.last_published = wall;
+    // Written before anything is logged: the plant waits for it, nobody waits for the log.
+    if (trace_.on() && changed) trace_.record("config_write", id, std::to_string(t.revision), wall_time());
+    if (!config_out_.write(to_idl(c, id, t.revision, options_.arbiter_id, now)))
+      spdlog::error("{}: configuration not written", id);
     if (changed) {
-      ++t.revision;
+      for (const auto& key : traced)
+        trace_.record("report_config", id, key + ">" + std::to_string(t.revision), wall);
       spdlog::info("{}: configuration r{}: mode {}, ipc {}, ice {}, pitch rate {}/{}/{} deg/s, {} reasons",
                    id, t.revision, to_string(c.mode), to_string(c.ipc_source), to_string(c.ice_mode),
                    c.pitch_rate_limit[0], c.pitch_rate_limit[1], c.pitch_rate_limit[2], c.reasons.size());
       for (const auto& r : c.reasons)
         spdlog::info("{}:   because {} reported {} on {}: {}", id, r.source, r.fault, r.component, r.action);
     }
-    t.last = c;
-    t.last_published = wall;
-    if (!config_out_.write(to_idl(c, id, t.revision, options_.arbiter_id, now)))
-      spdlog::error("{}: configuration not written", id);
   }
 }
 

@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "ControlConfiguration.h"
 #include "FaultAck.h"
@@ -14,6 +15,7 @@
 #include "dds/endpoints.hpp"
 #include "decision.hpp"
 #include "health.hpp"
+#include "hop_trace.hpp"
 #include "ice_detect_estimate_topic.hpp"
 #include "pitch_diag_estimate_topic.hpp"
 #include "service_liveliness.hpp"
@@ -43,6 +45,7 @@ class ArbiterNode {
     uint64_t revision = 0;
     double last_published = -1e300;
     TurbineClock clock;  ///< the decision's time base (sample time of the turbine's inputs)
+    std::vector<std::string> traced_reports;  ///< reports taken since the last configuration (WINDFDI_TRACE)
   };
   Turbine& turbine(const std::string& id);
   bool serves(const std::string& id) const;
@@ -63,6 +66,7 @@ class ArbiterNode {
   HealthReporter health_;
   std::map<std::string, Turbine> turbines_;
   ServiceLiveliness liveliness_;
+  HopTrace trace_;
 };
 
 }  // namespace windfdi::arbiter

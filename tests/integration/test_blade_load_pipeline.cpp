@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
@@ -192,6 +193,79 @@ TEST(BladeLoadPipeline, AbruptFaultReachesTheFarmAndTheArbiterSwitchesIpcToTheLi
   EXPECT_EQ(diag.stderr_text().find("blade_moment_sensor_1"), std::string::npos) << diag.stderr_text();
   EXPECT_EQ(diag.stderr_text().find("blade_moment_sensor_3"), std::string::npos) << diag.stderr_text();
   plant.stop(SIGTERM);
+  remove_stale_shm(domain);
+}
+
+// Every row of the WINDFDI_TRACE files in `dir`: hop -> key -> wall time (the turbine is WT01 throughout).
+std::map<std::string, std::map<std::string, double>> trace_rows(const std::string& dir) {
+  std::map<std::string, std::map<std::string, double>> rows;
+  for (const auto& f : std::filesystem::directory_iterator(dir)) {
+    if (f.path().extension() != ".csv") continue;
+    std::stringstream in(read_file(f.path().string()));
+    std::string line;
+    std::getline(in, line);
+    EXPECT_EQ(line, "hop,turbine_id,key,wall_time") << f.path();
+    while (std::getline(in, line)) {
+      std::vector<std::string> cell;
+      std::stringstream row(line);
+      for (std::string c; std::getline(row, c, ',');) cell.push_back(c);
+      if (cell.size() == 4) rows[cell[0]][cell[2]] = std::stod(cell[3]);
+    }
+  }
+  return rows;
+}
+
+TEST(BladeLoadPipeline, TheTraceFollowsAFaultHopByHopFromItsFrameToThePlantsControlStep) {
+  const int domain = private_domain(8);
+  auto env = dds_env(domain);
+  const std::string dir = temp_dir("hop_trace");
+  env["WINDFDI_TRACE"] = dir;
+  // GIVEN plant, blade_load and the arbiter with WINDFDI_TRACE, and the blade-2 gauge's abrupt fault
+  ChildProcess arbiter({bin("windfdi-arbiter")}, env, "arbiter");
+  ChildProcess diag({bin("windfdi-blade-load"), "--config", private_config(dir)}, env, "blade_load");
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  ChildProcess plant(
+      {bin("windfdi-plant"), "--scenario", kDeploy + "/scenarios/sensor_abrupt.yaml", "--rate", "20"}, env,
+      "plant");
+  // THEN the arbiter links the report to the configuration it decided, and the plant applies that revision
+  std::string report, revision;
+  const auto applied = [&] {
+    const auto rows = trace_rows(dir);
+    if (!rows.count("report_config") || !rows.count("config_apply")) return false;
+    for (const auto& [link, t] : rows.at("report_config")) {
+      const std::size_t gt = link.rfind('>');
+      if (link.rfind("blade_moment_sensor_2/sensor_abrupt/", 0) == 0 &&
+          rows.at("config_apply").count(link.substr(gt + 1))) {
+        report = link.substr(0, gt);
+        revision = link.substr(gt + 1);
+        return true;
+      }
+    }
+    return false;
+  };
+  ASSERT_TRUE(wait_until(applied, std::chrono::seconds(40)))
+      << diag.stderr_text() << arbiter.stderr_text() << plant.stderr_text();
+  plant.stop(SIGTERM);
+  // AND every hop of it is stamped, in the order of the way (one clock on one host)
+  auto rows = trace_rows(dir);
+  const std::vector<std::pair<std::string, std::string>> way = {
+      {"frame_write", report},    {"frame_receive", report},    {"frame_take", report},
+      {"report_write", report},   {"report_receive", report},   {"report_take", report},
+      {"config_write", revision}, {"config_receive", revision}, {"config_apply", revision}};
+  double before = 0.0;
+  for (const auto& [hop, key] : way) {
+    ASSERT_TRUE(rows[hop].count(key)) << hop << " " << key;
+    const double t = rows[hop][key];
+    std::printf("[measured] %-15s %+.3f ms\n", hop.c_str(), before > 0 ? 1e3 * (t - before) : 0.0);
+    EXPECT_GE(t, before - 1e-6) << hop << " stamped before the hop ahead of it";
+    before = t;
+  }
+  // AND tests/perf/hop_table.py makes the table of it
+  ChildProcess table({"/usr/bin/python3", kDeploy + "/../tests/perf/hop_table.py", dir}, {}, "hop_table");
+  ASSERT_EQ(table.wait(std::chrono::seconds(30)), 0) << table.stderr_text();
+  EXPECT_NE(table.stdout_text().find("| config: DDS receive -> plant control step | control period | "),
+            std::string::npos)
+      << table.stdout_text();
   remove_stale_shm(domain);
 }
 

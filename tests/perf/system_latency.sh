@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # End-to-end latency of the whole system, in one run on a private loopback domain:
 # from the frame that makes a fault decidable to the FaultReport, and to the ControlConfiguration at the
-# plant (p50, p99), each as a ratio to raw Fast DDS one-way latency measured in the same run.
+# plant (p50, p99), each as a ratio to raw Fast DDS one-way latency measured in the same run, then the same
+# path hop by hop (where the time goes) from every process's WINDFDI_TRACE time stamps.
 #
 # Set-up: the plant in real time with --block 1 (one sample per TurbineFrame: the lowest-latency deployment)
 # simulates N turbines; each turbine's blade-3 strain gauge reads NaN for 2.5 s every PERIOD s (episodes
@@ -38,6 +39,9 @@ for i in range(n):
 EOF
 sed 's/^clear_hold:.*/clear_hold: 1.0/' "$top/deploy/config/arbiter.yaml" > "$work/arbiter.yaml"
 
+# Every process writes its hop time stamps (common/hop_trace.hpp) for the hop-by-hop table at the end.
+export WINDFDI_TRACE="$work/trace"
+mkdir -p "$WINDFDI_TRACE"
 start_services "$work/arbiter.yaml"
 "$meter" --mode latency --domain "$domain" --duration "$secs" > "$work/meter.out" 2> "$work/meter.err" &
 meter_pid=$!
@@ -52,6 +56,9 @@ echo "system_latency: $n turbines, --block 1, domain $domain, ${secs} s measured
 rc=0
 wait $meter_pid || rc=$?
 grep -v READY "$work/meter.out"
+echo
+echo "Hop by hop (tests/perf/hop_table.py on the processes' WINDFDI_TRACE rows; the first 10 s left out):"
+python3 "$(dirname "$0")/hop_table.py" "$WINDFDI_TRACE" --skip 10 || rc=1
 [ -s "$work/meter.err" ] && cat "$work/meter.err" >&2
 for f in "$work"/*.log; do
   c=$(grep -ciE "samples lost|error" "$f" || true)
