@@ -44,7 +44,8 @@ ArbiterNode::ArbiterNode(const CommonOptions& common, const ArbiterConfig& confi
       config_(config),
       options_(options),
       participant_(participant_options(common, "windfdi-arbiter")),
-      faults_(participant_, common.turbines, &wakeup_),
+      report_wakeup_([this] { return report_arrived(); }),
+      faults_(participant_, common.turbines, &report_wakeup_),
       health_in_(participant_, common.turbines, &wakeup_),
       inertia_(participant_, common.turbines, &wakeup_),
       pitch_(participant_, common.turbines, &wakeup_),
@@ -162,12 +163,31 @@ void ArbiterNode::publish_configurations(double wall) {
   }
 }
 
+bool ArbiterNode::report_arrived() {
+  // Never waits for the loop (a listener blocked on it could hold DDS locks the loop's take needs): busy
+  // or not yet running, the loop takes the report on its next pass, woken as for any other input.
+  std::unique_lock<std::mutex> lock(step_mutex_, std::try_to_lock);
+  if (!lock.owns_lock() || !running_) {
+    wakeup_.notify();
+    return true;
+  }
+  const double now = wall_time();
+  handle_inputs(now);
+  publish_configurations(now);
+  return true;
+}
+
 void ArbiterNode::run() {
-  for (const auto& id : common_.turbines) turbine(id);
-  health_.set_state(windfdi::SERVICE_OK);
+  {
+    std::lock_guard<std::mutex> lock(step_mutex_);
+    for (const auto& id : common_.turbines) turbine(id);
+    health_.set_state(windfdi::SERVICE_OK);
+    running_ = true;
+  }
   spdlog::info("arbiter '{}' running with ownership strength {}", options_.arbiter_id, options_.strength);
   while (!shutdown_requested()) {
     wakeup_.wait_for(std::chrono::milliseconds(100));
+    std::lock_guard<std::mutex> lock(step_mutex_);
     const double now = wall_time();
     handle_inputs(now);
     publish_configurations(now);
@@ -175,6 +195,8 @@ void ArbiterNode::run() {
     health_.set_streams_of(faults_, health_in_, inertia_, pitch_, acks_, config_out_);
     health_.tick(now);
   }
+  std::lock_guard<std::mutex> lock(step_mutex_);
+  running_ = false;
   health_.set_state(windfdi::SERVICE_STOPPING);
   health_.tick(wall_time(), true);
 }

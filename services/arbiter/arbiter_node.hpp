@@ -4,6 +4,7 @@
 
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,12 @@ class ArbiterNode {
   NodeOptions options_;
   bus::Participant participant_;
   bus::Wakeup wakeup_;
+  // A fault report is decided on in the listener's thread when the loop is free (try_lock): the hand-off
+  // to the loop thread cost 0.2 ms of the 0.9 ms from the decisive frame (README "Latency hop by hop").
+  std::mutex step_mutex_;
+  bool running_ = false;  // under step_mutex_: the node is whole and its loop runs
+  bool report_arrived();
+  bus::Wakeup report_wakeup_;
   bus::Reader<windfdi::FaultReport> faults_;
   bus::Reader<windfdi::ServiceHealth> health_in_;
   bus::Reader<windfdi::InertiaEstimate> inertia_;

@@ -22,7 +22,7 @@ HOPS = [
     ("frame: loop wakes -> frames taken", "frame_wake", "frame_take", "context, LIDAR, take"),
     ("service: take -> FaultReport write", "frame_take", "report_write", "estimator"),
     ("report: write -> arbiter DDS receive", "report_write", "report_receive", "DDS"),
-    ("report: DDS receive -> arbiter loop take", "report_receive", "report_take", "listener to thread"),
+    ("report: DDS receive -> arbiter take", "report_receive", "report_take", "listener thread or loop"),
     ("arbiter: take -> configuration write", "report_take", "config_write", "decision"),
     ("config: write -> plant DDS receive", "config_write", "config_receive", "DDS"),
     ("config: DDS receive -> plant control step", "config_receive", "config_apply", "control period"),
