@@ -39,6 +39,7 @@ struct MonitorConfig {
   DetectionConfig detection;  ///< the outlier and drift tests, confirmation, isolation (residual_tests.hpp)
   LearningConfig learning;    ///< the healthy statistics and the noise level (healthy_channels.hpp)
   GateConfig gate;            ///< the steep-surface gate (surface_gate.hpp)
+  LullConfig lull;            ///< the lull hold (surface_gate.hpp)
   SuspectInputConfig suspect_inputs;  ///< speed and pitch redundancy, context hold (suspect_inputs.hpp)
   EpisodeConfig episode;        ///< return_time, intermittent_window, clear_time (episode_classifier.hpp)
   AdaptationConfig adaptation;  ///< the load table in uniform wind (table_adaptation.hpp)
@@ -104,6 +105,8 @@ class BladeLoadMonitor {
   /// and revolutions that were not tested because of it.
   uint64_t gated_samples() const { return gate_.closed_samples(); }
   uint64_t gated_revolutions() const { return gated_revolutions_; }
+  /// Revolutions whose mean blade load was a lull's (their outlier test is held; lull_load_share).
+  uint64_t lull_revolutions() const { return lull_revolutions_; }
   /// Samples held because an input of the load model was suspect (speed_mismatch, pitch_mismatch, context).
   uint64_t suspect_samples() const { return suspects_.suspect_samples(); }
   /// The inputs' context (input_context.hpp) from sample time t on.
@@ -130,6 +133,7 @@ class BladeLoadMonitor {
   InputValidity validity_;
   SuspectInputs suspects_;
   SurfaceGate gate_;
+  LullHold lull_;
   ResidualTests tests_;
   TableAdaptation adaptation_;
   double next_tick_ = -1.0;
@@ -138,7 +142,7 @@ class BladeLoadMonitor {
   bool due_ = false;
   BladeLoadOutput out_;
   uint64_t rejected_ = 0;
-  uint64_t gated_revolutions_ = 0;
+  uint64_t gated_revolutions_ = 0, lull_revolutions_ = 0;
   BladeChannels last_x_{};
 };
 

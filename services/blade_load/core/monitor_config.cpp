@@ -45,6 +45,8 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "gate_pitch_margin",
                         "gate_max_sensitivity",
                         "gate_pitch_filter",
+                        "lull_load_share",
+                        "lull_memory",
                         "speed_mismatch",
                         "pitch_mismatch",
                         "context_hold",
@@ -117,6 +119,9 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   g.pitch_margin = y.get_number("gate_pitch_margin", g.pitch_margin, 0.0, 5.0);
   g.max_sensitivity = y.get_number("gate_max_sensitivity", g.max_sensitivity, 0.01, 1.0);
   g.pitch_filter = y.get_number("gate_pitch_filter", g.pitch_filter, 0.0, 10.0);
+  LullConfig& lull = c.lull;
+  lull.load_share = y.get_number("lull_load_share", lull.load_share, 0.0, 1.0);
+  lull.memory = y.get_number("lull_memory", lull.memory, 10.0, 1e6);
   SuspectInputConfig& s = c.suspect_inputs;
   s.gear_ratio = turbine.gear_ratio;
   s.speed_mismatch = y.get_number("speed_mismatch", s.speed_mismatch, 0.0, 1.0);

@@ -2,6 +2,7 @@
 // the cross-blade witnesses).
 #include "residual_channels.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -23,6 +24,16 @@ BladeChannels unavailable_channels() {
   BladeChannels x;
   for (auto& r : x) r.fill(kNaN);
   return x;
+}
+
+double window_load(const BladeEstimates& e) {
+  std::array<double, 3> m{};
+  int n = 0;
+  for (int b = 0; b < 3; ++b)
+    if (e.sensor_valid[b] && std::isfinite(e.mean_sensor[b])) m[n++] = std::fabs(e.mean_sensor[b]);
+  if (n < 2) return kNaN;
+  if (n == 2) return 0.5 * (m[0] + m[1]);
+  return std::max(std::min(m[0], m[1]), std::min(std::max(m[0], m[1]), m[2]));
 }
 
 BladeChannels residual_channels(const BladeEstimates& e) {

@@ -33,6 +33,9 @@ struct BladeEstimates {
   std::array<double, 3> mean_sensor{}, mean_model{};  ///< window mean (N m)
 };
 
+/// The rotor's mean blade load in the last window (N m): the median of the gauges' window means, which one
+/// failed gauge cannot move beyond the other two; NaN when fewer than two gauges are valid.
+double window_load(const BladeEstimates& e);
 /// The channels of the three blades (NaN where a blade's window or the LIDAR gives none).
 BladeChannels residual_channels(const BladeEstimates& e);
 /// A blade's fault size behind channel c in N m (0 for c < 0): what its gauge reads beyond the model or the

@@ -1,4 +1,4 @@
-// The steep-surface gate on the low-passed measured pitch.
+// The steep-surface gate on the low-passed measured pitch, and the lull hold on the mean blade load.
 #include "surface_gate.hpp"
 
 #include <algorithm>
@@ -29,6 +29,20 @@ void SurfaceGate::update(const LoadTable& table, double lambda, const std::array
   } else {
     ++since_closed_;
   }
+}
+
+void LullHold::follow(double load, double revolution_time) {
+  // Every window counts, held or not: a lasting drop of the wind must become the usual load.
+  if (c_.load_share <= 0.0 || !std::isfinite(load) || load <= 0.0) return;
+  if (usual_load_ <= 0.0)
+    usual_load_ = load;
+  else
+    usual_load_ += std::min(1.0, revolution_time / c_.memory) * (load - usual_load_);
+}
+
+bool LullHold::holds(double load) const {
+  return c_.load_share > 0.0 && usual_load_ > 0.0 && std::isfinite(load) &&
+         load < c_.load_share * usual_load_;
 }
 
 }  // namespace windfdi::blade_load

@@ -1,5 +1,6 @@
-// The steep-surface gate: no test, learning or adaptation on a window whose load the model does not determine
-// (a blade's pitch where k_M(lambda, pitch) is steep, Stotsky 2014 eq 9) or whose model inputs are suspect.
+// The steep-surface gate and the lull hold: no test, learning or adaptation on a window whose load the model
+// does not determine (a blade's pitch where k_M(lambda, pitch) is steep, Stotsky 2014 eq 9; a lull, where the
+// beams' wind is not the rotor's) or whose model inputs are suspect.
 #pragma once
 
 #include <array>
@@ -43,6 +44,34 @@ class SurfaceGate {
   std::array<double, 3> pitch_lp_{kNaN, kNaN, kNaN};
   uint64_t since_closed_ = UINT64_MAX / 2;  // samples since the last sample the gate closed on
   uint64_t closed_samples_ = 0;
+};
+
+/// The lull hold (YAML keys `lull_load_share`, `lull_memory`). Every residual channel is a ratio to a mean
+/// load, but what makes it noisy (the beams' wind against the rotor's, one blade's eddy against another's)
+/// is a load: as the wind drops in a lull the mean load falls, and the channels' spread grows as its inverse
+/// (measured: at 8 m/s and 15.9 % turbulence the wind fell from 7.5 to 3-4 m/s for half a minute, the loads
+/// from 2.2 to 0.5 MN m, and one blade's cross-blade mean ratio stood at 6.6 %, beyond its critical value).
+/// On a window whose mean blade load is below load_share of the rotor's usual one the outlier test is held as
+/// on a steep one.
+struct LullConfig {
+  double load_share = 0.6;  ///< of the usual mean blade load, below which a window is a lull (0: no hold)
+  double memory = 600.0;    ///< s over which the usual mean blade load is followed (a lasting change of wind
+                            ///< becomes the usual within about as long)
+};
+
+class LullHold {
+ public:
+  explicit LullHold(const LullConfig& c) : c_(c) {}
+  /// Once per revolution: the revolution's mean blade load (window_load, N m; NaN: none) and its time (s).
+  void follow(double load, double revolution_time);
+  /// A window with mean blade load `load` (N m) is in a lull (never while the usual load is not known).
+  bool holds(double load) const;
+  /// The rotor's usual mean blade load (N m; < 0: not known yet).
+  double usual_load() const { return usual_load_; }
+
+ private:
+  LullConfig c_;
+  double usual_load_ = -1.0;
 };
 
 }  // namespace windfdi::blade_load
