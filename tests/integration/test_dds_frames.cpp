@@ -105,6 +105,31 @@ TEST_F(DdsFrames, ABusyWriterSurvivesFilteredReadersComingAndGoing) {
   EXPECT_EQ(c["foreign"].get<int>(), 0) << c.dump();
 }
 
+TEST_F(DdsFrames, EveryTopicCarriesTheInstancesOfAThousandTurbineFarm) {
+  // GIVEN a farm-wide reader of the per-turbine topics, health and faults in one process (the sizes of
+  // deploy/qos/windfdi_qos.xml: at 240 turbines the 1024 health instances of before showed 58 turbines)
+  const auto env = dds_env(domain);
+  ChildProcess count({bin("windfdi-test-peer"), "count", "--farm", "1000", "--timeout", "100"}, env, "count");
+  ASSERT_TRUE(wait_ready(count, std::chrono::seconds(20))) << count.stderr_text();
+  // WHEN another process writes every instance of 1000 turbines once: a frame block, a sensor-bias estimate
+  // and a configuration per turbine, the health of 8 processes and 16 fault instances per turbine
+  ChildProcess writer(
+      {bin("windfdi-test-peer"), "instances", "--farm", "1000", "--readers", "1", "--hold", "120"}, env,
+      "instances");
+  const int rc = count.wait(std::chrono::seconds(120));
+  EXPECT_EQ(writer.stop(SIGTERM), 0) << writer.stderr_text();
+  // THEN every instance arrived, none was refused at the writer
+  ASSERT_EQ(rc, 0) << count.stdout_text() << count.stderr_text();
+  const auto c = last_json_line(count.stdout_text());
+  EXPECT_EQ(c["frame"].get<int>(), 1000);
+  EXPECT_EQ(c["estimate"].get<int>(), 1000);
+  EXPECT_EQ(c["control"].get<int>(), 1000);
+  EXPECT_EQ(c["health"].get<int>(), 8000);
+  EXPECT_EQ(c["fault"].get<int>(), 16000);
+  const auto w = nlohmann::json::parse(writer.stdout_text().substr(0, writer.stdout_text().find('\n')));
+  for (const auto& [topic, failed] : w["failures"].items()) EXPECT_EQ(failed.get<int>(), 0) << topic;
+}
+
 TEST_F(DdsFrames, ListenerGivesUpWithoutPublisherAndSaysSo) {
   // GIVEN a reader expecting samples WHEN nobody publishes THEN it exits 1 after its timeout, not hangs
   ChildProcess lone({bin("windfdi-test-peer"), "listen", "--expect", "10", "--timeout", "2"}, dds_env(domain),

@@ -1,9 +1,11 @@
-// windfdi-test-peer: a DDS peer for the multi-process tests (publishes or receives TurbineFrames).
+// windfdi-test-peer: a DDS peer for the multi-process tests (publishes or receives TurbineFrames, reports,
+// configurations, health, and a whole farm's instances).
 #include <spdlog/spdlog.h>
 
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -306,6 +308,121 @@ int churn(const CommonOptions& common, const std::string& turbine, int cycles) {
   return 0;
 }
 
+// The turbine ids of a farm of n ("T0001".."Tnnnn") and the instance keys a farm of them has beyond one per
+// turbine: the health of the plant, five services and the arbiter (and one spare), and sixteen fault
+// instances (source x component) per turbine.
+std::vector<std::string> farm_ids(int n) {
+  std::vector<std::string> ids;
+  char id[16];
+  for (int i = 1; i <= n; ++i) {
+    std::snprintf(id, sizeof id, "T%04d", i);
+    ids.push_back(id);
+  }
+  return ids;
+}
+const std::vector<std::string> kHealthServices = {"plant",      "blade_load",  "sensor_bias", "pitch_diag",
+                                                  "ice_detect", "drive_train", "arbiter",     "spare"};
+constexpr int kFaultsPerTurbine = 16;
+
+// Writes one sample of every instance a farm of n turbines has on the sized topics (a frame block, a
+// sensor-bias estimate and a configuration per turbine, 8 health and 16 fault instances per turbine), waits
+// for the readers' acknowledgments and holds for `hold` s.
+int instances(const CommonOptions& common, int n, int readers, double hold) {
+  bus::Participant participant(participant_options(common, "windfdi-test-peer-instances"));
+  bus::Writer<windfdi::TurbineFrame> frames(participant);
+  bus::Writer<windfdi::SensorBiasEstimate> estimates(participant);
+  bus::Writer<windfdi::ControlConfiguration> configs(participant);
+  bus::Writer<windfdi::ServiceHealth> health(participant);
+  bus::Writer<windfdi::FaultReport> faults(participant);
+  // Frames and estimates are volatile: their readers must be there first.
+  if (!frames.wait_for_readers(readers, std::chrono::seconds(30)) ||
+      !estimates.wait_for_readers(readers, std::chrono::seconds(30))) {
+    spdlog::error("only {} of {} readers matched", frames.matched(), readers);
+    return 1;
+  }
+  std::map<std::string, uint64_t> failures;
+  for (const auto& id : farm_ids(n)) {
+    windfdi::TurbineFrame frame;
+    frame.turbine_id(id);
+    FrameSample s;
+    s.rotor_speed = 1.2;
+    frame.samples().push_back(bus::to_idl(s));
+    failures["frame"] += !frames.write(frame);
+    windfdi::SensorBiasEstimate e;
+    e.turbine_id(id);
+    failures["estimate"] += !estimates.write(e);
+    windfdi::ControlConfiguration c;
+    c.turbine_id(id);
+    failures["control"] += !configs.write(c);
+    for (const auto& service : kHealthServices) {
+      windfdi::ServiceHealth h;
+      h.turbine_id(id);
+      h.service(service);
+      failures["health"] += !health.write(h);
+    }
+    for (int k = 0; k < kFaultsPerTurbine; ++k) {
+      windfdi::FaultReport f;
+      f.turbine_id(id);
+      f.source(kHealthServices[k % 6]);
+      f.component("component_" + std::to_string(k));
+      failures["fault"] += !faults.write(f);
+    }
+  }
+  const eprosima::fastrtps::Duration_t wait(30, 0);
+  for (auto* w : {frames.get(), estimates.get(), configs.get(), health.get(), faults.get()})
+    w->wait_for_acknowledgments(wait);
+  std::cout << nlohmann::json{{"written", n}, {"failures", failures}}.dump() << std::endl;
+  const double start = wall_time();
+  while (!shutdown_requested() && wall_time() - start < hold) {
+    health.assert_liveliness();
+    sleep_unless_shutdown(std::chrono::milliseconds(500));
+  }
+  return 0;
+}
+
+// Counts the distinct instances of a farm of n turbines that arrive (see instances()); exits 0 once every
+// one has, 1 at the timeout. Prints the counts as JSON.
+int count_instances(const CommonOptions& common, int n, double timeout) {
+  bus::Participant participant(participant_options(common, "windfdi-test-peer-count"));
+  bus::Wakeup wakeup;
+  bus::Reader<windfdi::TurbineFrame> frames(participant, {}, &wakeup);
+  bus::Reader<windfdi::SensorBiasEstimate> estimates(participant, {}, &wakeup);
+  bus::Reader<windfdi::ControlConfiguration> configs(participant, {}, &wakeup);
+  bus::Reader<windfdi::ServiceHealth> health(participant, {}, &wakeup);
+  bus::Reader<windfdi::FaultReport> faults(participant, {}, &wakeup);
+  std::cout << "{\"ready\":true}" << std::endl;
+  std::set<std::string> frame_keys, estimate_keys, control_keys, health_keys, fault_keys;
+  const std::size_t want_health = kHealthServices.size() * static_cast<std::size_t>(n);
+  const std::size_t want_faults = kFaultsPerTurbine * static_cast<std::size_t>(n);
+  const auto complete = [&] {
+    return frame_keys.size() == static_cast<std::size_t>(n) && estimate_keys.size() == frame_keys.size() &&
+           control_keys.size() == frame_keys.size() && health_keys.size() == want_health &&
+           fault_keys.size() == want_faults;
+  };
+  const double start = wall_time();
+  std::vector<windfdi::TurbineFrame> f;
+  std::vector<windfdi::SensorBiasEstimate> e;
+  std::vector<windfdi::ControlConfiguration> c;
+  std::vector<windfdi::ServiceHealth> h;
+  std::vector<windfdi::FaultReport> r;
+  while (!shutdown_requested() && wall_time() - start < timeout && !complete()) {
+    wakeup.wait_for(std::chrono::milliseconds(100));
+    f.clear(), e.clear(), c.clear(), h.clear(), r.clear();
+    frames.take(f), estimates.take(e), configs.take(c), health.take(h), faults.take(r);
+    for (const auto& x : f) frame_keys.insert(x.turbine_id());
+    for (const auto& x : e) estimate_keys.insert(x.turbine_id());
+    for (const auto& x : c) control_keys.insert(x.turbine_id());
+    for (const auto& x : h) health_keys.insert(x.turbine_id() + "/" + x.service());
+    for (const auto& x : r) fault_keys.insert(x.turbine_id() + "/" + x.source() + "/" + x.component());
+  }
+  std::cout << nlohmann::json{{"frame", frame_keys.size()},     {"estimate", estimate_keys.size()},
+                              {"control", control_keys.size()}, {"health", health_keys.size()},
+                              {"fault", fault_keys.size()},     {"seconds", wall_time() - start}}
+                   .dump()
+            << std::endl;
+  return complete() ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -317,9 +434,10 @@ int main(int argc, char** argv) {
   int blocks = 100, block_size = 10, readers = 1;
   double rate = 100.0, timeout = 30.0;
   uint64_t expect = 0;
-  app.add_option("mode", mode, "publish, listen, fault, configs, health, control, flood or churn")
-      ->check(
-          CLI::IsMember({"publish", "listen", "fault", "configs", "health", "control", "flood", "churn"}));
+  app.add_option("mode", mode,
+                 "publish, listen, fault, configs, health, control, flood, churn, instances or count")
+      ->check(CLI::IsMember({"publish", "listen", "fault", "configs", "health", "control", "flood", "churn",
+                             "instances", "count"}));
   std::string turbine = "WT01", source = "pitch_diag";
   std::vector<std::string> script;
   double hold = 30.0;
@@ -336,6 +454,9 @@ int main(int argc, char** argv) {
   app.add_option("--timeout", timeout, "seconds before giving up");
   int cycles = 100;
   app.add_option("--cycles", cycles, "churn mode: filtered readers to create and delete");
+  int farm = 1000;
+  app.add_option("--farm", farm, "instances and count modes: turbines in the farm")
+      ->check(CLI::Range(1, 9999));
   return run_main(app, argc, argv, common, [&] {
     if (mode == "publish") return publish(common, ids, blocks, block_size, readers, rate);
     if (mode == "fault") return fault(common, turbine, source, script, hold);
@@ -344,6 +465,8 @@ int main(int argc, char** argv) {
     if (mode == "control") return publish_control(common, turbine, source, hold);
     if (mode == "flood") return flood(common, ids, hold);
     if (mode == "churn") return churn(common, turbine, cycles);
+    if (mode == "instances") return instances(common, farm, readers, hold);
+    if (mode == "count") return count_instances(common, farm, timeout);
     return listen(common, expect, timeout);
   });
 }
