@@ -16,17 +16,10 @@ namespace windfdi {
 
 namespace {
 
-// The estimate values of the last feed() that produced one.
-std::vector<std::string>& last_values() {
-  thread_local std::vector<std::string> v;
-  return v;
-}
-
 // Feeds one sample to a turbine's diagnoser and hands on what it produced, the same offline and on DDS.
 bool feed(const ServiceSpec& spec, const std::string& id, TurbineDiagnoser& d, const FrameSample& s, bool gap,
           const std::function<void(FaultEvent&)>& on_event, const std::function<void()>& on_estimate) {
   thread_local std::vector<FaultEvent> events;
-  thread_local std::vector<std::string> values;
   events.clear();
   const bool ok = d.update(s, gap, events);
   for (auto& e : events) {
@@ -34,11 +27,7 @@ bool feed(const ServiceSpec& spec, const std::string& id, TurbineDiagnoser& d, c
     e.source = spec.name;
     on_event(e);
   }
-  values.clear();
-  if (d.estimate_due(values)) {
-    last_values().swap(values);
-    on_estimate();
-  }
+  if (d.estimate_due()) on_estimate();
   return ok;
 }
 
@@ -77,6 +66,7 @@ int run_replay_mode(const ServiceSpec& spec, const ReplayOptions& options, const
     c.absent = absent;
     return c;
   };
+  std::vector<std::string> values;  // one estimate's columns, reused
   const auto stats = run_replay(
       options, spec.estimate_columns,
       [&](const std::string& id, const FrameSample& s, bool gap, ReplaySink& sink) {
@@ -96,7 +86,10 @@ int run_replay_mode(const ServiceSpec& spec, const ReplayOptions& options, const
         }
         return feed(
             spec, id, *d, s, gap, [&](FaultEvent& e) { sink.event(e); },
-            [&] { sink.estimate(s.t, id, last_values()); });
+            [&] {
+              d->estimate_values(values);
+              sink.estimate(s.t, id, values);
+            });
       },
       header);
   spdlog::info("replay of {}: {} samples, {} rejected, {} lost (sequence gaps), {} estimates, {} events",

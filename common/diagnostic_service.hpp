@@ -26,9 +26,11 @@ class TurbineDiagnoser {
   /// Feeds one sample (`gap`: samples were lost before it). Returns false when the sample was rejected
   /// (NaN, infinite, out of range: counted, never fed to an estimator). Appends raised/cleared events.
   virtual bool update(const FrameSample& sample, bool gap, std::vector<FaultEvent>& events) = 0;
-  /// True when an estimate is due after the last update (the service's output rate); then `values`
-  /// holds one text per estimate column.
-  virtual bool estimate_due(std::vector<std::string>& values) = 0;
+  /// True when an estimate is due after the last update (the service's output rate).
+  virtual bool estimate_due() = 0;
+  /// The last estimate, one text per estimate column. Formatted only when asked: on DDS the estimate goes
+  /// out as its sample, and formatting every field of every 100 Hz estimate was string work on the hot path.
+  virtual void estimate_values(std::vector<std::string>& values) const = 0;
   /// What other services and the arbiter say about this turbine's inputs, in force from sample time `t`
   /// (input_context.hpp). A core that relies on a suspect input holds its judgement; the default ignores it.
   virtual void set_context(const InputContext& context, double t) {
@@ -69,10 +71,10 @@ class CoreDiagnoser final : public TurbineDiagnoser {
   bool update(const FrameSample& sample, bool gap, std::vector<FaultEvent>& events) override {
     return core_->update(sample, gap, events);
   }
-  bool estimate_due(std::vector<std::string>& values) override {
-    if (!core_->estimate_due(last_)) return false;
+  bool estimate_due() override { return core_->estimate_due(last_); }
+  void estimate_values(std::vector<std::string>& values) const override {
+    values.clear();
     csv_values(fields_, last_, values);
-    return true;
   }
   void set_context(const InputContext& context, double t) override { core_->set_context(context, t); }
   /// The last estimate as its DDS sample.

@@ -124,7 +124,8 @@ function(windfdi_add_service_estimate name)
     COMMAND ${CMAKE_COMMAND} -E make_directory ${gen_dir}
     COMMAND ${FASTDDSGEN} -replace -typeobject -d ${gen_dir} -I ${PROJECT_SOURCE_DIR}/idl ${idl}
             > ${gen_dir}/fastddsgen.log
-    DEPENDS ${idl} ${PROJECT_SOURCE_DIR}/idl/Types.idl
+    COMMAND ${CMAKE_COMMAND} -DDIR=${gen_dir} -P ${PROJECT_SOURCE_DIR}/common/cmake/strip_type_registration.cmake
+    DEPENDS ${idl} ${PROJECT_SOURCE_DIR}/idl/Types.idl ${PROJECT_SOURCE_DIR}/common/cmake/strip_type_registration.cmake
     WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}/services/${name}
     COMMENT "fastddsgen: generating ${type}")
   file(CONFIGURE OUTPUT ${gen_dir}/${name}_estimate_topic.hpp CONTENT

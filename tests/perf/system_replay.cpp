@@ -200,7 +200,8 @@ int main(int argc, char** argv) {
         std::vector<FaultEvent> ev;
         ok &= d->update(s, gap, ev);
         std::vector<std::string> values;
-        if (d->estimate_due(values)) {
+        if (d->estimate_due()) {
+          d->estimate_values(values);
           if (svc.estimates) svc.estimates->estimate(s.t, id, values);
           if (&svc == &bias) {
             turbine.control.corrected_generator_speed(std::stod(values.at(bias_corrected)), s.t);

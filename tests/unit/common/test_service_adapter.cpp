@@ -83,12 +83,13 @@ TEST(ServiceAdapter, OneFieldListGivesTheColumnsTheValuesAndTheSample) {
   // WHEN samples arrive: the core's answers pass through (rejection, events, estimates at its rate)
   s.t = 0.5;
   EXPECT_TRUE(d->update(s, false, events));
-  EXPECT_FALSE(d->estimate_due(values));
+  EXPECT_FALSE(d->estimate_due());
   s.t = 1.0;
   EXPECT_TRUE(d->update(s, false, events));
   ASSERT_EQ(events.size(), 1u);
   EXPECT_EQ(events[0].fault, "ice_accretion");
-  ASSERT_TRUE(d->estimate_due(values));
+  ASSERT_TRUE(d->estimate_due());
+  d->estimate_values(values);
   EXPECT_EQ(values, (std::vector<std::string>{format_number(401.0), format_number(10.0), "1"}));
   s.rotor_speed = kNaN;
   EXPECT_FALSE(d->update(s, false, events));
