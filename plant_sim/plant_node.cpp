@@ -51,7 +51,9 @@ struct Bus {
                }),
         lidar(participant),
         configs(participant, ids, &wakeup),
-        bias(participant, ids, &wakeup),
+        // The newest corrected speed is all the controller takes, at its next step: no wake-up per estimate
+        // and no reliable bookkeeping for 100 estimates a second per turbine (estimate_newest).
+        bias(participant, ids, nullptr, "estimate_newest"),
         health(participant, "plant", ids) {}
   bus::Participant participant;
   bus::Wakeup wakeup;

@@ -3,6 +3,7 @@
 
 #include <csignal>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -42,6 +43,17 @@ bool wait_ready(ChildProcess& p, std::chrono::seconds timeout) {
 class DdsFrames : public ::testing::Test {
  protected:
   void TearDown() override { remove_stale_shm(domain); }
+  /// A writer of sensor_bias estimates for WT01-WT03 as fast as it can for `hold` s (estimate_reliable),
+  /// ready; nullptr when it did not start.
+  std::unique_ptr<ChildProcess> start_flood(const std::string& hold) {
+    auto flood =
+        std::make_unique<ChildProcess>(std::vector<std::string>{bin("windfdi-test-peer"), "flood", "--ids",
+                                                                "WT01,WT02,WT03", "--hold", hold},
+                                       dds_env(domain), "flood");
+    if (wait_ready(*flood, std::chrono::seconds(20))) return flood;
+    ADD_FAILURE() << "the estimate writer did not start: " << flood->stderr_text();
+    return nullptr;
+  }
   int domain = private_domain(1);
 };
 
@@ -82,9 +94,9 @@ TEST_F(DdsFrames, ABusyWriterSurvivesFilteredReadersComingAndGoing) {
   // GIVEN a writer of estimates for three turbines that writes as fast as it can (Fast DDS 2.9 evaluated
   // remote readers' filters in write() unlocked against their arrival and departure: such a writer crashed)
   const auto env = dds_env(domain);
-  ChildProcess flood({bin("windfdi-test-peer"), "flood", "--ids", "WT01,WT02,WT03", "--hold", "120"}, env,
-                     "flood");
-  ASSERT_TRUE(wait_ready(flood, std::chrono::seconds(20))) << flood.stderr_text();
+  const auto flood_process = start_flood("120");
+  ASSERT_TRUE(flood_process);
+  ChildProcess& flood = *flood_process;
 
   // WHEN a reader with a DDS content filter on WT02 is created and deleted 60 times in another process
   ChildProcess churn({bin("windfdi-test-peer"), "churn", "--turbine-id", "WT02", "--cycles", "60"}, env,
@@ -128,6 +140,25 @@ TEST_F(DdsFrames, EveryTopicCarriesTheInstancesOfAThousandTurbineFarm) {
   EXPECT_EQ(c["fault"].get<int>(), 16000);
   const auto w = nlohmann::json::parse(writer.stdout_text().substr(0, writer.stdout_text().find('\n')));
   for (const auto& [topic, failed] : w["failures"].items()) EXPECT_EQ(failed.get<int>(), 0) << topic;
+}
+
+TEST_F(DdsFrames, ThePlantsBestEffortReaderHearsTheReliableBiasEstimates) {
+  // GIVEN sensor_bias's reliable estimate writer for three turbines (estimate_reliable)
+  const auto env = dds_env(domain);
+  const auto flood = start_flood("60");
+  ASSERT_TRUE(flood);
+  // WHEN the plant's reader (estimate_newest: best effort, keep last 1, filtered to two turbines) listens
+  ChildProcess reader({bin("windfdi-test-peer"), "newest", "--ids", "WT01,WT03", "--timeout", "30"}, env,
+                      "newest");
+  const int rc = reader.wait(std::chrono::seconds(45));
+  EXPECT_EQ(flood->stop(SIGTERM), 0) << flood->stderr_text();
+  // THEN the QoS match and it hears both of its turbines and no other
+  ASSERT_EQ(rc, 0) << reader.stdout_text() << reader.stderr_text();
+  const auto r = last_json_line(reader.stdout_text());
+  EXPECT_EQ(r["incompatible_qos"].get<int>(), 0);
+  EXPECT_EQ(r["counts"].size(), 2u) << r.dump();
+  EXPECT_GT(r["counts"]["WT01"].get<int>(), 0);
+  EXPECT_GT(r["counts"]["WT03"].get<int>(), 0);
 }
 
 TEST_F(DdsFrames, ListenerGivesUpWithoutPublisherAndSaysSo) {

@@ -308,6 +308,28 @@ int churn(const CommonOptions& common, const std::string& turbine, int cycles) {
   return 0;
 }
 
+// Reads SensorBiasEstimates as the plant does (QoS profile estimate_newest) until each of `ids` has sent one
+// or `timeout` s; prints how many arrived per turbine.
+int newest(const CommonOptions& common, const std::vector<std::string>& ids, double timeout) {
+  bus::Participant participant(participant_options(common, "windfdi-test-peer-newest"));
+  bus::Reader<windfdi::SensorBiasEstimate> reader(participant, ids, nullptr, "estimate_newest");
+  std::cout << "{\"ready\":true}" << std::endl;
+  std::map<std::string, uint64_t> counts;
+  std::vector<windfdi::SensorBiasEstimate> got;
+  const double start = wall_time();
+  while (!shutdown_requested() && wall_time() - start < timeout && counts.size() < ids.size()) {
+    sleep_unless_shutdown(std::chrono::milliseconds(10));
+    got.clear();
+    reader.take(got);
+    for (const auto& e : got) ++counts[e.turbine_id()];
+  }
+  std::cout << nlohmann::json{{"counts", counts},
+                              {"incompatible_qos", reader.status().incompatible_qos.load()}}
+                   .dump()
+            << std::endl;
+  return counts.size() == ids.size() ? 0 : 1;
+}
+
 // The turbine ids of a farm of n ("T0001".."Tnnnn") and the instance keys a farm of them has beyond one per
 // turbine: the health of the plant, five services and the arbiter (and one spare), and sixteen fault
 // instances (source x component) per turbine.
@@ -435,9 +457,9 @@ int main(int argc, char** argv) {
   double rate = 100.0, timeout = 30.0;
   uint64_t expect = 0;
   app.add_option("mode", mode,
-                 "publish, listen, fault, configs, health, control, flood, churn, instances or count")
+                 "publish, listen, fault, configs, health, control, flood, churn, instances, count or newest")
       ->check(CLI::IsMember({"publish", "listen", "fault", "configs", "health", "control", "flood", "churn",
-                             "instances", "count"}));
+                             "instances", "count", "newest"}));
   std::string turbine = "WT01", source = "pitch_diag";
   std::vector<std::string> script;
   double hold = 30.0;
@@ -467,6 +489,7 @@ int main(int argc, char** argv) {
     if (mode == "churn") return churn(common, turbine, cycles);
     if (mode == "instances") return instances(common, farm, readers, hold);
     if (mode == "count") return count_instances(common, farm, timeout);
+    if (mode == "newest") return newest(common, ids, timeout);
     return listen(common, expect, timeout);
   });
 }
