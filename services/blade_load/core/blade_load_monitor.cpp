@@ -139,8 +139,9 @@ void BladeLoadMonitor::revolution(double t, bool held) {
   const BladeChannels x = held ? unavailable_channels() : residual_channels(est_);
   last_x_ = x;
   if (held) ++gated_revolutions_;
-  if (lull_.holds(window_load(est_))) ++lull_revolutions_;
-  lull_.follow(window_load(est_), rev_time_);
+  const double load = window_load(est_);
+  if (lull_.holds(load)) ++lull_revolutions_;
+  lull_.follow(load, rev_time_);
   tests_.revolution(t, rev_time_, x, validity_.lidar_ok());
   // Not on a window the gate holds: a suspect speed or pitch (a biased lambda) taught the table a wrong k_M,
   // and false alarms on healthy gauges followed once the fault was gone.

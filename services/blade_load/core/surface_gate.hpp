@@ -1,6 +1,6 @@
-// The steep-surface gate and the lull hold: no test, learning or adaptation on a window whose load the model
-// does not determine (a blade's pitch where k_M(lambda, pitch) is steep, Stotsky 2014 eq 9; a lull, where the
-// beams' wind is not the rotor's) or whose model inputs are suspect.
+// The steep-surface gate: no test, learning or adaptation on a window whose load the model does not determine
+// (a blade's pitch where k_M(lambda, pitch) is steep, Stotsky 2014 eq 9) or whose model inputs are suspect.
+// The lull hold: no outlier test on a window whose mean blade load has fallen well below the usual one.
 #pragma once
 
 #include <array>
