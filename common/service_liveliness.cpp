@@ -5,9 +5,24 @@ namespace windfdi {
 
 void ServiceLiveliness::on_health(const Writer& writer, const std::string& turbine_id,
                                   const std::string& service, std::vector<ServiceChange>& changes) {
-  const Key key{turbine_id, service};
-  if (!writers_[writer].insert(key).second) return;
+  const Key key{turbine_id, service}, placeholder{"*", service};
+  auto& keys = writers_[writer];
+  if (turbine_id == "*") {
+    // A writer that has spoken for a real turbine of this service no longer speaks for every turbine.
+    for (const auto& k : keys)
+      if (k.second == service && k.first != "*") return;
+  } else if (keys.erase(placeholder)) {
+    // Narrowed, not lost: its real turbines speak for it from now on.
+    --live_writers_[placeholder];
+  }
+  if (!keys.insert(key).second) return;
   if (live_writers_[key]++ == 0) changes.push_back({turbine_id, service, true});
+}
+
+bool ServiceLiveliness::alive(const std::string& turbine_id, const std::string& service) const {
+  auto it = live_writers_.find({turbine_id, service});
+  if (it == live_writers_.end()) it = live_writers_.find({"*", service});
+  return it != live_writers_.end() && it->second > 0;
 }
 
 void ServiceLiveliness::on_writer_lost(const Writer& writer, std::vector<ServiceChange>& changes) {

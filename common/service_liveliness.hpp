@@ -22,6 +22,11 @@ struct ServiceChange {
 /// Feeds on a ServiceHealth reader; remembers which writers speak for which (turbine, service). A service
 /// is alive while one of its writers is: a service restarted by systemd has a new writer, often seen before
 /// the old one's lease runs out, and that old writer's loss must not declare the running service lost.
+///
+/// "*" is the placeholder of an instance that has not seen a turbine yet, and speaks for the turbines no
+/// writer of that service has named. Once a writer names a real turbine it no longer speaks for "*" (it is
+/// narrowed, not lost): two instances sharing a farm's turbines (one per host) would otherwise each hold the
+/// other's turbines alive, or a dead one's "*" would take the other's turbines with it.
 class ServiceLiveliness {
  public:
   using Writer = eprosima::fastrtps::rtps::InstanceHandle_t;
@@ -37,10 +42,19 @@ class ServiceLiveliness {
   /// `writer` lost its liveliness: a loss for each (turbine, service) no other live writer speaks for.
   void on_writer_lost(const Writer& writer, std::vector<ServiceChange>& changes);
 
+  /// Whether a live writer speaks for `service` on `turbine_id`: one that named it, or, for a turbine no
+  /// writer has named, one of "*". A change of "*" (appearance or loss) applies to the turbines where this
+  /// gives the new state.
+  bool alive(const std::string& turbine_id, const std::string& service) const;
+  /// Whether a writer (live or lost) has named `turbine_id` for `service`.
+  bool named(const std::string& turbine_id, const std::string& service) const {
+    return live_writers_.count({turbine_id, service}) > 0;
+  }
+
  private:
   using Key = std::pair<std::string, std::string>;  // (turbine, service)
   std::map<Writer, std::set<Key>> writers_;
-  std::map<Key, int> live_writers_;  // how many of writers_ speak for it
+  std::map<Key, int> live_writers_;  // how many of writers_ speak for it; kept at 0 once named
 };
 
 }  // namespace windfdi

@@ -104,9 +104,9 @@ void ArbiterNode::handle_inputs(double wall) {
   for (const auto& c : liveliness_.poll(health_in_)) {
     if (c.service == "arbiter") continue;
     if (!c.alive) spdlog::warn("service {} for turbine {} lost its liveliness", c.service, c.turbine_id);
-    // "*": a farm-wide service instance speaks for every turbine.
+    // "*": an instance that has not named a turbine yet; it speaks for the turbines no instance named.
     for (auto& [id, t] : turbines_)
-      if (c.turbine_id == "*" || c.turbine_id == id)
+      if (c.turbine_id == id || (c.turbine_id == "*" && liveliness_.alive(id, c.service) == c.alive))
         t.arbiter.on_service_alive(c.service, c.alive, t.clock.now(wall));
     if (c.alive && serves(c.turbine_id)) {
       Turbine& t = turbine(c.turbine_id);

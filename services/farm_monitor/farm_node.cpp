@@ -183,14 +183,27 @@ void FarmNode::handle(double now) {
     spdlog::warn("{}: service {} lost (liveliness)", c.turbine_id, c.service);
     metrics_[c.turbine_id + "/" + c.service].state = "lost";
     store_.add_health({now, c.turbine_id, c.service, "lost", "liveliness lost"});
-    state_.on_service_lost(c.turbine_id, c.service);
+    if (c.turbine_id != "*") {
+      state_.on_service_lost(c.turbine_id, c.service);
+      continue;
+    }
+    // An instance lost before it named a turbine: the turbines no other instance (a shard on another host)
+    // speaks for.
+    for (const auto& [id, t] : state_.turbines())
+      if (!liveliness_.alive(id, c.service)) state_.on_service_lost(id, c.service);
   }
   for (const auto& h : health) {
     const std::string state = pick(kServiceStates, h.state());
     ServiceMetrics& m = metrics_[h.turbine_id() + "/" + h.service()];
     if (m.state != state) store_.add_health({now, h.turbine_id(), h.service(), state, h.detail()});
     m = {state, h.samples_in(), h.samples_rejected(), h.sequence_gaps(), h.deadlines_missed(), h.lag()};
-    state_.on_service(h.turbine_id(), h.service(), state);
+    if (h.turbine_id() != "*") {
+      state_.on_service(h.turbine_id(), h.service(), state);
+      continue;
+    }
+    // An instance that has not named a turbine yet: its state is not that of the turbines an instance named.
+    for (const auto& [id, t] : state_.turbines())
+      if (!liveliness_.named(id, h.service())) state_.on_service(id, h.service(), state);
   }
   store_estimates(now);
   // The web side gets a copy only when something came in (200 turbines' picture is copied in well under 1

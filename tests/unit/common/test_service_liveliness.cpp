@@ -22,20 +22,75 @@ std::string text(const std::vector<ServiceChange>& changes) {
 TEST(ServiceLiveliness, AServiceAppearsOnceAndIsLostWithItsWriter) {
   ServiceLiveliness book;
   std::vector<ServiceChange> changes;
-  // GIVEN pitch_diag's writer sending health for WT01 and for every turbine, twice
-  for (int i = 0; i < 2; ++i) {
-    book.on_health(writer(1), "WT01", "pitch_diag", changes);
-    book.on_health(writer(1), "*", "pitch_diag", changes);
-  }
-  EXPECT_EQ(text(changes), "WT01/pitch_diag alive; */pitch_diag alive; ");
-  // WHEN its writer loses liveliness THEN both are lost
+  // GIVEN pitch_diag's writer sending health for every turbine ("*", before it has seen one), then for WT01
+  // twice, and "*" again
+  book.on_health(writer(1), "*", "pitch_diag", changes);
+  for (int i = 0; i < 2; ++i) book.on_health(writer(1), "WT01", "pitch_diag", changes);
+  book.on_health(writer(1), "*", "pitch_diag", changes);
+  EXPECT_EQ(text(changes), "*/pitch_diag alive; WT01/pitch_diag alive; ");
+  // WHEN its writer loses liveliness THEN WT01 is lost (the writer no longer spoke for "*": it named WT01)
   changes.clear();
   book.on_writer_lost(writer(1), changes);
-  EXPECT_EQ(text(changes), "*/pitch_diag lost; WT01/pitch_diag lost; ");
+  EXPECT_EQ(text(changes), "WT01/pitch_diag lost; ");
+  EXPECT_FALSE(book.alive("WT01", "pitch_diag"));
   // AND a second loss of the same writer says nothing
   changes.clear();
   book.on_writer_lost(writer(1), changes);
   EXPECT_TRUE(changes.empty()) << text(changes);
+}
+
+TEST(ServiceLiveliness, TwoInstancesSharingTheFarmEachLoseOnlyTheirOwnTurbines) {
+  // GIVEN sensor_bias on two hosts, each started before the plant ("*") and then serving two turbines
+  ServiceLiveliness book;
+  std::vector<ServiceChange> changes;
+  book.on_health(writer(1), "*", "sensor_bias", changes);
+  book.on_health(writer(2), "*", "sensor_bias", changes);
+  for (const char* id : {"WT01", "WT02"}) book.on_health(writer(1), id, "sensor_bias", changes);
+  for (const char* id : {"WT03", "WT04"}) book.on_health(writer(2), id, "sensor_bias", changes);
+  // WHEN the first host dies
+  changes.clear();
+  book.on_writer_lost(writer(1), changes);
+  // THEN its two turbines are lost and the other host's are not
+  EXPECT_EQ(text(changes), "WT01/sensor_bias lost; WT02/sensor_bias lost; ");
+  EXPECT_FALSE(book.alive("WT01", "sensor_bias"));
+  EXPECT_TRUE(book.alive("WT03", "sensor_bias"));
+  // AND the second host's death loses the rest
+  changes.clear();
+  book.on_writer_lost(writer(2), changes);
+  EXPECT_EQ(text(changes), "WT03/sensor_bias lost; WT04/sensor_bias lost; ");
+}
+
+TEST(ServiceLiveliness, AnInstanceLostBeforeItNamedATurbineLeavesTheTurbinesAnotherNamed) {
+  // GIVEN one instance serving WT02 and a second that never saw a turbine
+  ServiceLiveliness book;
+  std::vector<ServiceChange> changes;
+  book.on_health(writer(1), "WT02", "ice_detect", changes);
+  book.on_health(writer(2), "*", "ice_detect", changes);
+  EXPECT_TRUE(book.alive("WT09", "ice_detect"));  // a turbine nobody named: the "*" speaks for it
+  // WHEN the second is lost THEN "*" is lost: WT02 stays alive, a turbine nobody named does not
+  changes.clear();
+  book.on_writer_lost(writer(2), changes);
+  EXPECT_EQ(text(changes), "*/ice_detect lost; ");
+  EXPECT_TRUE(book.alive("WT02", "ice_detect"));
+  EXPECT_FALSE(book.alive("WT09", "ice_detect"));
+}
+
+TEST(ServiceLiveliness, ANewInstancesPlaceholderDoesNotReviveALostTurbine) {
+  // GIVEN pitch_diag serving WT01, killed, and a new instance that has not seen WT01's frames yet
+  ServiceLiveliness book;
+  std::vector<ServiceChange> changes;
+  book.on_health(writer(1), "WT01", "pitch_diag", changes);
+  book.on_writer_lost(writer(1), changes);
+  changes.clear();
+  book.on_health(writer(2), "*", "pitch_diag", changes);
+  // THEN WT01 is still lost (the new instance may serve other turbines) until the new instance names it
+  EXPECT_EQ(text(changes), "*/pitch_diag alive; ");
+  EXPECT_TRUE(book.named("WT01", "pitch_diag"));
+  EXPECT_FALSE(book.alive("WT01", "pitch_diag"));
+  changes.clear();
+  book.on_health(writer(2), "WT01", "pitch_diag", changes);
+  EXPECT_EQ(text(changes), "WT01/pitch_diag alive; ");
+  EXPECT_TRUE(book.alive("WT01", "pitch_diag"));
 }
 
 TEST(ServiceLiveliness, ARestartSeenBeforeTheOldWritersLeaseRunsOutIsNoLoss) {
