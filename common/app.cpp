@@ -10,6 +10,7 @@
 #include <iostream>
 #include <thread>
 
+#include "turbine_selection.hpp"
 #include "version.hpp"
 #include "yaml_config.hpp"
 
@@ -23,8 +24,12 @@ extern "C" void on_signal(int) { g_shutdown = true; }
 void add_common_options(CLI::App& app, CommonOptions& o) {
   app.set_version_flag("--version", std::string("windfdi ") + kVersion);
   app.add_option("--domain", o.domain, "DDS domain id (0..232); default $WINDFDI_DOMAIN or 0");
-  app.add_option("--turbine", o.turbines, "serve only this turbine id (repeatable; default: every turbine)")
-      ->take_all();
+  app.add_option(
+         "--turbine", o.turbines,
+         "serve only this turbine id, or the ids FIRST..LAST in byte order (repeatable; default: every "
+         "turbine)")
+      ->take_all()
+      ->check(turbine_range_error);
   app.add_option("--log-level", o.log_level, "trace, debug, info, warn, error, critical or off")
       ->capture_default_str();
   app.add_option("--qos", o.qos_file, "Fast DDS XML QoS profile file (default deploy/qos/windfdi_qos.xml)");

@@ -3,11 +3,15 @@
 
 #include <spdlog/spdlog.h>
 
+#include "turbine_selection.hpp"
+
 namespace windfdi {
 
 HealthReporter::HealthReporter(bus::Participant& participant, std::string service,
                                std::vector<std::string> turbines)
     : writer_(participant), service_(std::move(service)) {
+  // A range's turbines are reported as they are seen, as a farm-wide instance's are.
+  turbines = turbine_ids(turbines);
   if (turbines.empty()) turbines.push_back("*");
   for (const auto& t : turbines) counters_[t];
 }

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <map>
 #include <memory>
-#include <set>
 
 #include "ControlConfiguration.h"
 #include "LidarFrame.h"
@@ -19,6 +18,7 @@
 #include "hop_trace.hpp"
 #include "replay_csv.hpp"
 #include "sensor_bias_estimate_topic.hpp"
+#include "turbine_selection.hpp"
 #include "turbine_sim.hpp"
 
 namespace windfdi::plant {
@@ -96,12 +96,11 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
   if (o.duration >= 0.0) sc.duration = o.duration;
   if (o.block < 1 || o.block > 32) throw ConfigError("--block", 0, "", "must be 1..32");
   const double dt = 1.0 / sc.sample_rate;
-  const std::set<std::string> only(common.turbines.begin(), common.turbines.end());
   std::vector<std::string> ids;
   std::map<std::string, TurbineRun> runs;
   std::vector<std::string> fault_columns;
   for (const auto& t : sc.turbines) {
-    if (!only.empty() && !only.count(t.id)) continue;
+    if (!turbine_selected(common.turbines, t.id)) continue;
     ids.push_back(t.id);
     auto& run = runs.try_emplace(t.id, o.config_lease).first->second;
     const auto faults = sc.faults_of(t.id);

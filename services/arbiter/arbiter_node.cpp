@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "dds/convert.hpp"
+#include "turbine_selection.hpp"
 
 namespace windfdi::arbiter {
 
@@ -57,8 +58,7 @@ ArbiterNode::ArbiterNode(const CommonOptions& common, const ArbiterConfig& confi
       trace_("arbiter") {}
 
 bool ArbiterNode::serves(const std::string& id) const {
-  return id != "*" && (common_.turbines.empty() || std::find(common_.turbines.begin(), common_.turbines.end(),
-                                                             id) != common_.turbines.end());
+  return id != "*" && turbine_selected(common_.turbines, id);
 }
 
 ArbiterNode::Turbine& ArbiterNode::turbine(const std::string& id) {
@@ -180,7 +180,7 @@ bool ArbiterNode::report_arrived() {
 void ArbiterNode::run() {
   {
     std::lock_guard<std::mutex> lock(step_mutex_);
-    for (const auto& id : common_.turbines) turbine(id);
+    for (const auto& id : turbine_ids(common_.turbines)) turbine(id);
     health_.set_state(windfdi::SERVICE_OK);
     running_ = true;
   }

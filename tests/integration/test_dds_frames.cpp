@@ -58,7 +58,8 @@ class DdsFrames : public ::testing::Test {
 };
 
 TEST_F(DdsFrames, FilteredAndUnfilteredReadersGetExactlyTheirTurbines) {
-  // GIVEN a reader of every turbine and a reader filtered to WT02, on a private domain
+  // GIVEN a reader of every turbine, one filtered to WT02 and one to the range WT02..WT03, on a private
+  // domain
   const auto env = dds_env(domain);
   const int blocks = 50, block = 10;
   ChildProcess all(
@@ -67,16 +68,19 @@ TEST_F(DdsFrames, FilteredAndUnfilteredReadersGetExactlyTheirTurbines) {
   ChildProcess one({bin("windfdi-test-peer"), "listen", "--turbine", "WT02", "--expect",
                     std::to_string(blocks * block), "--timeout", "40"},
                    env, "listen-wt02");
-  ASSERT_TRUE(wait_ready(all, std::chrono::seconds(20))) << all.stderr_text();
-  ASSERT_TRUE(wait_ready(one, std::chrono::seconds(20))) << one.stderr_text();
+  ChildProcess range({bin("windfdi-test-peer"), "listen", "--turbine", "WT02..WT03", "--expect",
+                      std::to_string(2 * blocks * block), "--timeout", "40"},
+                     env, "listen-range");
+  for (ChildProcess* reader : {&all, &one, &range})
+    ASSERT_TRUE(wait_ready(*reader, std::chrono::seconds(20))) << reader->stderr_text();
 
-  // WHEN a publisher in a third process sends 50 blocks of 10 samples for WT01, WT02 and WT03
+  // WHEN a publisher in a fourth process sends 50 blocks of 10 samples for WT01, WT02 and WT03
   ChildProcess pub({bin("windfdi-test-peer"), "publish", "--ids", "WT01,WT02,WT03", "--blocks",
-                    std::to_string(blocks), "--block", std::to_string(block), "--readers", "2"},
+                    std::to_string(blocks), "--block", std::to_string(block), "--readers", "3"},
                    env, "publish");
   ASSERT_EQ(pub.wait(std::chrono::seconds(60)), 0) << pub.stderr_text();
-  ASSERT_EQ(all.wait(std::chrono::seconds(45)), 0) << all.stdout_text() << all.stderr_text();
-  ASSERT_EQ(one.wait(std::chrono::seconds(45)), 0) << one.stdout_text() << one.stderr_text();
+  for (ChildProcess* reader : {&all, &one, &range})
+    ASSERT_EQ(reader->wait(std::chrono::seconds(45)), 0) << reader->stdout_text() << reader->stderr_text();
 
   // THEN the unfiltered reader has every sample of every turbine, in sequence
   const auto a = last_json_line(all.stdout_text());
@@ -88,6 +92,11 @@ TEST_F(DdsFrames, FilteredAndUnfilteredReadersGetExactlyTheirTurbines) {
   EXPECT_EQ(o["total"].get<int>(), blocks * block);
   EXPECT_EQ(o["counts"].size(), 1u) << o.dump();
   EXPECT_EQ(o["counts"]["WT02"].get<int>(), blocks * block);
+  // AND the range's reader has WT02's and WT03's and not WT01's
+  const auto r = last_json_line(range.stdout_text());
+  EXPECT_EQ(r["total"].get<int>(), 2 * blocks * block);
+  EXPECT_EQ(r["counts"].size(), 2u) << r.dump();
+  EXPECT_FALSE(r["counts"].contains("WT01")) << r.dump();
 }
 
 TEST_F(DdsFrames, ABusyWriterSurvivesFilteredReadersComingAndGoing) {

@@ -4,6 +4,8 @@
 #include "dds/convert.hpp"
 #include "dds/participant.hpp"
 #include "names.hpp"
+#include "turbine_selection.hpp"
+#include "yaml_config.hpp"
 
 using namespace windfdi;
 
@@ -62,6 +64,36 @@ TEST(ContentFilter, ExpressionSelectsEachTurbineByKey) {
   std::vector<std::string> params;
   EXPECT_EQ(bus::turbine_filter_expression({"WT01", "WT07"}, params), "turbine_id = %0 OR turbine_id = %1");
   EXPECT_EQ(params, (std::vector<std::string>{"'WT01'", "'WT07'"}));
+}
+
+TEST(ContentFilter, ARangeSelectsTheIdsBetweenItsBoundsInByteOrder) {
+  std::vector<std::string> params;
+  EXPECT_EQ(bus::turbine_filter_expression({"WT001..WT250", "WT400"}, params),
+            "(turbine_id >= %0 AND turbine_id <= %1) OR turbine_id = %2");
+  EXPECT_EQ(params, (std::vector<std::string>{"'WT001'", "'WT250'", "'WT400'"}));
+}
+
+TEST(TurbineSelection, IdsAndRangesSelectTheirTurbines) {
+  EXPECT_TRUE(windfdi::turbine_selected({}, "WT07"));  // none: every turbine
+  const std::vector<std::string> selection{"WT001..WT250", "WT400"};
+  for (const char* id : {"WT001", "WT010", "WT099", "WT250", "WT400"})
+    EXPECT_TRUE(windfdi::turbine_selected(selection, id)) << id;
+  for (const char* id : {"WT000", "WT251", "WT399", "WT2500", "T001"})
+    EXPECT_FALSE(windfdi::turbine_selected(selection, id)) << id;
+  // Byte order, as the DDS filter compares: an id without the padding falls where its characters say.
+  EXPECT_TRUE(windfdi::turbine_selected(selection, "WT1"));
+  EXPECT_EQ(windfdi::turbine_ids(selection), std::vector<std::string>{"WT400"});
+}
+
+TEST(TurbineSelection, AMalformedRangeIsAConfigErrorNamingIt) {
+  for (const char* bad : {"..WT02", "WT01..", "WT09..WT01", "WT01..WT05..WT09"}) {
+    try {
+      windfdi::turbine_range(bad);
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const windfdi::ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(Names, BladeIndexOfPerBladeComponentsOnly) {
