@@ -1,10 +1,11 @@
-// A farm over a network: three hosts as network namespaces (two turbine hosts, one farm host) joined by a
-// bridge over veth, UDP only, discovery through a Fast DDS discovery server on the farm host. Each turbine
-// host runs its plant and its pitch_diag; the farm host runs the discovery server, the arbiter and the farm
-// monitor, which must see both turbines' faults.
+// A farm over a network: hosts as network namespaces (a farm host and three others) joined by a bridge over
+// veth, UDP only, discovery through a Fast DDS discovery server on the farm host, which also runs the arbiter
+// and the farm monitor. Two layouts: a plant and its pitch_diag per turbine host; and one turbine host with
+// two service hosts sharing its turbines (--turbine ranges), one of which dies.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
@@ -25,6 +26,27 @@ const char* const kIp = "/bin/ip";  // ChildProcess execs without a PATH search
 
 int sh(const std::string& command) { return std::system((command + " >/dev/null 2>&1").c_str()); }
 
+double wall_time() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+const char* const kTurbineSideHosts[] = {"a", "b", "c"};  // the farm host is "f"
+
+bool fault_raised(const std::vector<json>& rows, const char* turbine, const char* component,
+                  const char* fault) {
+  for (const auto& r : rows)
+    if (r["kind"] == "fault" && r["data"]["turbine_id"] == turbine && r["data"]["component"] == component &&
+        r["data"]["fault"] == fault && r["data"]["state"] == "raised")
+      return true;
+  return false;
+}
+
+bool config_seen(const std::vector<json>& rows, const char* turbine, bool (*want)(const json&)) {
+  for (const auto& r : rows)
+    if (r["kind"] == "config" && r["data"]["turbine_id"] == turbine && want(r["data"])) return true;
+  return false;
+}
+
 class FarmNetwork : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -41,7 +63,7 @@ class FarmNetwork : public ::testing::Test {
     ASSERT_EQ(sh(f + "link set br0 up"), 0);
     ASSERT_EQ(sh(f + "addr add " + net + ".1/24 dev br0"), 0);
     int address = 2;
-    for (const char* host : {"a", "b"}) {
+    for (const char* host : kTurbineSideHosts) {
       const std::string ns = prefix + host, inside = prefix + host + "0", outside = prefix + host + "1";
       ASSERT_EQ(sh("ip netns add " + ns), 0);
       ASSERT_EQ(sh("ip -n " + ns + " link set lo up"), 0);
@@ -58,8 +80,15 @@ class FarmNetwork : public ::testing::Test {
   void TearDown() override {
     processes.clear();  // stops every process before its namespace goes
     if (!created) return;
-    for (const char* host : {"f", "a", "b"}) sh("ip netns del " + prefix + host);
+    sh("ip netns del " + prefix + "f");
+    for (const char* host : kTurbineSideHosts) sh("ip netns del " + prefix + host);
     remove_stale_shm(domain);
+  }
+  /// The farm host's discovery server, farm monitor (store `db`) and arbiter.
+  void start_farm_host(const std::string& db) {
+    start("f", {"fast-discovery-server", "-i", "0", "-l", net + ".1", "-p", "11811"}, "discovery");
+    farm = &start("f", {bin("windfdi-farm"), "--db", db, "--table-period", "0"}, "farm");
+    arbiter = &start("f", {bin("windfdi-arbiter")}, "arbiter");
   }
   ChildProcess& start(const std::string& host, std::vector<std::string> argv, const std::string& name) {
     argv.insert(argv.begin(), {kIp, "netns", "exec", prefix + host});
@@ -74,6 +103,8 @@ class FarmNetwork : public ::testing::Test {
   bool created = false;
   int domain = private_domain(9);
   std::vector<std::unique_ptr<ChildProcess>> processes;
+  ChildProcess* farm = nullptr;
+  ChildProcess* arbiter = nullptr;
 };
 
 TEST_F(FarmNetwork, TwoTurbineHostsAndAFarmHostOverUdpWithADiscoveryServer) {
@@ -88,9 +119,7 @@ TEST_F(FarmNetwork, TwoTurbineHostsAndAFarmHostOverUdpWithADiscoveryServer) {
          "faults:\n  - {turbine: WT02, target: pitch_actuator_1, type: pump_wear, "
          "start: 60}\n";
   const std::string db = dir + "/farm.sqlite";
-  start("f", {"fast-discovery-server", "-i", "0", "-l", net + ".1", "-p", "11811"}, "discovery");
-  auto& farm = start("f", {bin("windfdi-farm"), "--db", db, "--table-period", "0"}, "farm");
-  auto& arbiter = start("f", {bin("windfdi-arbiter")}, "arbiter");
+  start_farm_host(db);
   start("a", {bin("windfdi-pitch-diag"), "--turbine", "WT01"}, "pitch_a");
   start("b", {bin("windfdi-pitch-diag"), "--turbine", "WT02"}, "pitch_b");
   std::this_thread::sleep_for(std::chrono::seconds(2));
@@ -100,20 +129,7 @@ TEST_F(FarmNetwork, TwoTurbineHostsAndAFarmHostOverUdpWithADiscoveryServer) {
       start("b", {bin("windfdi-plant"), "--scenario", dir + "/wt02.yaml", "--rate", "10"}, "plant_b");
   // THEN the farm host stores both turbines' faults, raised by their own hosts' pitch_diag
   const auto history = [&] { return farm_history(db, dds_env(domain)); };
-  const auto has = [&](const std::vector<json>& rows, const char* turbine, const char* component,
-                       const char* fault) {
-    for (const auto& r : rows)
-      if (r["kind"] == "fault" && r["data"]["turbine_id"] == turbine && r["data"]["component"] == component &&
-          r["data"]["fault"] == fault && r["data"]["state"] == "raised")
-        return true;
-    return false;
-  };
   // The arbiter's configurations follow the faults by a few ms: wait for all four, then say which is missing.
-  const auto config_seen = [](const std::vector<json>& rows, const char* turbine, bool (*want)(const json&)) {
-    for (const auto& r : rows)
-      if (r["kind"] == "config" && r["data"]["turbine_id"] == turbine && want(r["data"])) return true;
-    return false;
-  };
   const auto safe_stop = [](const json& c) { return c["mode"] == "safe_stop"; };
   const auto derating = [](const json& c) { return c["mode"] == "normal" && !c["reasons"].empty(); };
   std::vector<json> rows;
@@ -121,18 +137,111 @@ TEST_F(FarmNetwork, TwoTurbineHostsAndAFarmHostOverUdpWithADiscoveryServer) {
   wait_until(
       [&] {
         rows = history();
-        both = has(rows, "WT01", "pitch_actuator_3", "hydraulic_leakage") &&
-               has(rows, "WT02", "pitch_actuator_1", "pump_wear");
+        both = fault_raised(rows, "WT01", "pitch_actuator_3", "hydraulic_leakage") &&
+               fault_raised(rows, "WT02", "pitch_actuator_1", "pump_wear");
         stopped = config_seen(rows, "WT01", safe_stop);
         derated = config_seen(rows, "WT02", derating);
         return both && stopped && derated;
       },
       std::chrono::seconds(60));
-  EXPECT_TRUE(both) << farm.stderr_text() << plant_a.stderr_text() << plant_b.stderr_text();
+  EXPECT_TRUE(both) << farm->stderr_text() << plant_a.stderr_text() << plant_b.stderr_text();
   // AND the arbiter on the farm host stopped WT01 (mode 2) and derated WT02, and the plants applied it
-  EXPECT_TRUE(stopped) << arbiter.stderr_text();
-  EXPECT_TRUE(derated) << arbiter.stderr_text();
+  EXPECT_TRUE(stopped) << arbiter->stderr_text();
+  EXPECT_TRUE(derated) << arbiter->stderr_text();
   EXPECT_NE(plant_a.stderr_text().find("mode 2"), std::string::npos) << plant_a.stderr_text();
+}
+
+TEST_F(FarmNetwork, TwoServiceHostsShareTheTurbinesAndAHostsDeathFallsBackOnlyItsTurbines) {
+  const std::string dir = temp_dir("farm_shards");
+  // GIVEN four turbines simulated on host a at 10x real time, a leak on WT01's blade 3 and pump wear on
+  // WT03's blade 1 at 60 s; pitch_diag and sensor_bias for WT01..WT02 on host b and for WT03..WT04 on host c
+  std::ofstream(dir + "/farm.yaml")
+      << "duration: 900\nseed: 5\nturbines:\n"
+         "  - {id: WT01, wind: {mean: 17.0}}\n  - {id: WT02, wind: {mean: 15.0}}\n"
+         "  - {id: WT03, wind: {mean: 17.0}}\n  - {id: WT04, wind: {mean: 15.0}}\n"
+         "faults:\n"
+         "  - {turbine: WT01, target: pitch_actuator_3, type: hydraulic_leakage, "
+         "start: 60}\n"
+         "  - {turbine: WT03, target: pitch_actuator_1, type: pump_wear, start: 60}\n";
+  const std::string db = dir + "/farm.sqlite";
+  start_farm_host(db);
+  std::vector<ChildProcess*> host_b;
+  for (const auto& [host, range] : {std::pair{"b", "WT01..WT02"}, std::pair{"c", "WT03..WT04"}})
+    for (const char* service : {"windfdi-pitch-diag", "windfdi-sensor-bias"}) {
+      auto& p = start(host, {bin(service), "--turbine", range}, std::string(service) + "_" + host);
+      if (std::string(host) == "b") host_b.push_back(&p);
+    }
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  auto& plant = start("a", {bin("windfdi-plant"), "--scenario", dir + "/farm.yaml", "--rate", "10"}, "plant");
+  const auto history = [&] { return farm_history(db, dds_env(domain)); };
+  const auto derating = [](const json& c) { return !c["reasons"].empty(); };
+  std::vector<json> rows;
+  bool both = false;
+  wait_until(
+      [&] {
+        rows = history();
+        both = fault_raised(rows, "WT01", "pitch_actuator_3", "hydraulic_leakage") &&
+               fault_raised(rows, "WT03", "pitch_actuator_1", "pump_wear") &&
+               config_seen(rows, "WT01", derating) && config_seen(rows, "WT03", derating);
+        return both;
+      },
+      std::chrono::seconds(60));
+  // THEN each host's faults reach the farm host, raised by the host that serves the turbine
+  ASSERT_TRUE(both) << farm->stderr_text() << plant.stderr_text();
+
+  // WHEN host b dies: its link goes down and its processes are killed
+  const double killed_at = wall_time();
+  ASSERT_EQ(sh("ip -n " + prefix + "f link set " + prefix + "b1 down"), 0);
+  for (ChildProcess* p : host_b) p->stop(SIGKILL);
+  // THEN the farm stores WT01's and WT02's services lost, and the arbiter falls back on both
+  const auto lost = [](const std::vector<json>& events, const std::string& turbine,
+                       const std::string& service, double* when = nullptr) {
+    for (const auto& r : events)
+      if (r["kind"] == "health" && r["data"]["turbine_id"] == turbine && r["data"]["service"] == service &&
+          r["data"]["event"] == "lost") {
+        if (when) *when = r["received_at"].get<double>();
+        return true;
+      }
+    return false;
+  };
+  const auto service_lost_reasons = [](const std::vector<json>& events, const std::string& turbine) {
+    // The services named service_lost in the turbine's latest configuration.
+    std::string latest;
+    for (const auto& r : events)
+      if (r["kind"] == "config" && r["data"]["turbine_id"] == turbine) {
+        latest.clear();
+        for (const auto& reason : r["data"]["reasons"])
+          if (reason.get<std::string>().find("/service_lost") != std::string::npos)
+            latest += reason.get<std::string>().substr(0, reason.get<std::string>().find('/')) + " ";
+      }
+    return latest;
+  };
+  double lost_at = 0;
+  wait_until(
+      [&] {
+        rows = history();
+        return lost(rows, "WT01", "pitch_diag") && lost(rows, "WT01", "sensor_bias") &&
+               lost(rows, "WT02", "pitch_diag", &lost_at) && lost(rows, "WT02", "sensor_bias") &&
+               service_lost_reasons(rows, "WT02") == "pitch_diag sensor_bias ";
+      },
+      std::chrono::seconds(20));
+  for (const char* turbine : {"WT01", "WT02"})
+    for (const char* service : {"pitch_diag", "sensor_bias"})
+      EXPECT_TRUE(lost(rows, turbine, service)) << turbine << " " << service << farm->stderr_text();
+  EXPECT_EQ(service_lost_reasons(rows, "WT02"), "pitch_diag sensor_bias ") << arbiter->stderr_text();
+  std::printf("host b's death noticed at the farm host after %.1f s\n", lost_at - killed_at);
+  // AND host c's turbines lose nothing: no service of theirs lost, no fallback
+  std::this_thread::sleep_for(std::chrono::seconds(4));  // a second liveliness lease after the loss
+  rows = history();
+  for (const std::string turbine : {"WT03", "WT04", "*"})
+    for (const char* service : {"pitch_diag", "sensor_bias"})
+      EXPECT_FALSE(lost(rows, turbine, service)) << turbine << " " << service << farm->stderr_text();
+  EXPECT_EQ(service_lost_reasons(rows, "WT04"), "") << arbiter->stderr_text();
+  // AND WT03's pump wear is still raised and served: the farm saw no clear
+  for (const auto& r : rows)
+    if (r["kind"] == "fault" && r["data"]["turbine_id"] == "WT03") {
+      EXPECT_NE(r["data"]["state"], "cleared") << r.dump();
+    }
 }
 
 }  // namespace

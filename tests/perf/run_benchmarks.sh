@@ -51,6 +51,8 @@ echo "== farm_http_latency (the farm web page's data with 200 turbines running)"
 "$top/tests/perf/farm_http_latency.sh" 200 300 30
 echo "== farm_capacity"
 "$top/tests/perf/farm_capacity.sh" 30 10 20 40 80
+echo "== farm_shards (one and two service hosts, network namespaces; needs root)"
+"$top/tests/perf/farm_shards.sh" 30 30 30 40 50 60 70 80 || echo "farm_shards: skipped or failed"
 echo "== ipc_value"
 "$bin/ipc_value" 5 3
 echo "== plant_farm_cpu"

@@ -35,6 +35,7 @@
 #include <condition_variable>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
@@ -79,7 +80,9 @@ double pct(std::vector<double> v, double q) {
 bus::ParticipantOptions options(int domain, const std::string& name) {
   bus::ParticipantOptions o;
   o.domain = domain;
-  o.profile = "windfdi_participant_loopback";
+  // Loopback unless the run says otherwise (farm_shards.sh: UDP between network namespaces).
+  const char* profile = std::getenv("WINDFDI_PARTICIPANT_PROFILE");
+  o.profile = profile && *profile ? profile : "windfdi_participant_loopback";
   o.name = name;
   return o;
 }
