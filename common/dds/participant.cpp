@@ -11,7 +11,7 @@
 #include <stdexcept>
 
 #include "deploy_dir.hpp"
-#include "turbine_selection.hpp"
+#include "turbine_filter.hpp"
 #include "yaml_config.hpp"
 
 namespace windfdi {
@@ -88,6 +88,10 @@ Participant::Participant(const ParticipantOptions& options) : domain_(options.do
   if (!participant_)
     throw std::runtime_error("cannot create DDS participant on domain " + std::to_string(options.domain) +
                              " with profile " + options.profile);
+  if (participant_->register_content_filter_factory(kTurbineFilterClass, &TurbineFilterFactory::instance()) !=
+      ReturnCode_t::RETCODE_OK)
+    throw std::runtime_error(std::string("cannot register the DDS content filter class ") +
+                             kTurbineFilterClass);
   spdlog::debug("participant '{}' on domain {} (profile {}, {})", options.name, options.domain,
                 options.profile, file);
   if (secure_)
@@ -133,40 +137,15 @@ Topic* Participant::topic(const std::string& name, TypeSupport type) {
   return t;
 }
 
-std::string turbine_filter_expression(const std::vector<std::string>& turbine_ids,
-                                      std::vector<std::string>& parameters) {
-  std::string expr;
-  parameters.clear();
-  const auto parameter = [&](const std::string& id) {
-    parameters.push_back("'" + id + "'");
-    return "%" + std::to_string(parameters.size() - 1);
-  };
-  for (const auto& value : turbine_ids) {
-    if (!expr.empty()) expr += " OR ";
-    if (!is_turbine_range(value)) {
-      expr += "turbine_id = " + parameter(value);
-      continue;
-    }
-    const auto [first, last] = turbine_range(value);
-    expr += "(turbine_id >= " + parameter(first);
-    expr += " AND turbine_id <= " + parameter(last) + ")";
-  }
-  return expr;
-}
-
 TopicDescription* Participant::topic_for_turbines(const std::string& name, TypeSupport type,
                                                   const std::vector<std::string>& turbine_ids) {
   Topic* base = topic(name, type);
   if (turbine_ids.empty()) return base;
-  std::vector<std::string> params;
-  const std::string expr = turbine_filter_expression(turbine_ids, params);
-  // Fast DDS 2.9 takes at most 100 filter parameters (an id is one, a range two).
-  if (params.size() > 100)
-    throw ConfigError("--turbine", 0, "",
-                      "at most 100 turbine ids (a range counts 2): use FIRST..LAST ranges");
+  const std::string expr = turbine_filter_expression(turbine_ids);
   std::lock_guard<std::mutex> lock(mutex_);
   const std::string cft_name = name + "/filtered_" + std::to_string(filtered_topics_++);
-  ContentFilteredTopic* cft = participant_->create_contentfilteredtopic(cft_name, base, expr, params);
+  ContentFilteredTopic* cft =
+      participant_->create_contentfilteredtopic(cft_name, base, expr, {}, kTurbineFilterClass);
   if (!cft) throw std::runtime_error("cannot create content filter '" + expr + "' on " + name);
   return cft;
 }

@@ -49,7 +49,8 @@ class Participant {
   /// The topic `name` of type `type`, created once per participant.
   eprosima::fastdds::dds::Topic* topic(const std::string& name, eprosima::fastdds::dds::TypeSupport type);
 
-  /// The topic, or a content-filtered view of it holding only the given turbines (empty: the topic itself).
+  /// The topic, or a content-filtered view of it holding only the given turbines (ids and FIRST..LAST
+  /// ranges; empty: the topic itself), with the filter class kTurbineFilterClass.
   eprosima::fastdds::dds::TopicDescription* topic_for_turbines(const std::string& name,
                                                                eprosima::fastdds::dds::TypeSupport type,
                                                                const std::vector<std::string>& turbine_ids);
@@ -64,9 +65,5 @@ class Participant {
   int filtered_topics_ = 0;
   std::mutex mutex_;
 };
-
-/// The SQL filter expression and parameters selecting `turbine_ids` on the key field turbine_id.
-std::string turbine_filter_expression(const std::vector<std::string>& turbine_ids,
-                                      std::vector<std::string>& parameters);
 
 }  // namespace windfdi::bus

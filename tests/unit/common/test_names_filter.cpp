@@ -1,8 +1,13 @@
 // Unit tests of canonical names, IDL conversions and the per-turbine content filter expression.
 #include <gtest/gtest.h>
 
+#include <fastdds/dds/core/LoanableSequence.hpp>
+
+#include "LidarFramePubSubTypes.h"
+#include "TurbineFramePubSubTypes.h"
 #include "dds/convert.hpp"
 #include "dds/participant.hpp"
+#include "dds/turbine_filter.hpp"
 #include "names.hpp"
 #include "turbine_selection.hpp"
 #include "yaml_config.hpp"
@@ -60,17 +65,75 @@ TEST(Convert, SampleRoundTrip) {
   EXPECT_EQ(back.valid_mask, s.valid_mask);
 }
 
-TEST(ContentFilter, ExpressionSelectsEachTurbineByKey) {
-  std::vector<std::string> params;
-  EXPECT_EQ(bus::turbine_filter_expression({"WT01", "WT07"}, params), "turbine_id = %0 OR turbine_id = %1");
-  EXPECT_EQ(params, (std::vector<std::string>{"'WT01'", "'WT07'"}));
+TEST(ContentFilter, TheExpressionIsTheSelection) {
+  EXPECT_EQ(bus::turbine_filter_expression({"WT01", "WT07"}), "WT01 WT07");
+  EXPECT_EQ(bus::turbine_filter_expression({"WT001..WT250", "WT400"}), "WT001..WT250 WT400");
 }
 
-TEST(ContentFilter, ARangeSelectsTheIdsBetweenItsBoundsInByteOrder) {
-  std::vector<std::string> params;
-  EXPECT_EQ(bus::turbine_filter_expression({"WT001..WT250", "WT400"}, params),
-            "(turbine_id >= %0 AND turbine_id <= %1) OR turbine_id = %2");
-  EXPECT_EQ(params, (std::vector<std::string>{"'WT001'", "'WT250'", "'WT400'"}));
+// A frame of `id` serialized into `payload` as a writer does (SerializedPayload_t is not safely copyable).
+void serialize_frame(const std::string& id, eprosima::fastrtps::rtps::SerializedPayload_t& payload) {
+  windfdi::TurbineFrame frame;
+  frame.t(12.5);
+  frame.turbine_id(id);
+  frame.samples().resize(10);
+  windfdi::TurbineFramePubSubType type;
+  payload.reserve(type.getSerializedSizeProvider(&frame)());
+  EXPECT_TRUE(type.serialize(&frame, &payload));
+}
+
+TEST(ContentFilter, TheTurbineIdIsReadFromTheSerializedFrame) {
+  for (const std::string id : {"WT07", "", "a-much-longer-turbine-identifier-0001"}) {
+    eprosima::fastrtps::rtps::SerializedPayload_t payload;
+    serialize_frame(id, payload);
+    std::string got = "unset";
+    EXPECT_TRUE(bus::turbine_id_of_payload(payload.data, payload.length, got)) << id;
+    EXPECT_EQ(got, id);
+  }
+  windfdi::LidarFrame lidar;
+  lidar.turbine_id("WT03");
+  windfdi::LidarFramePubSubType lidar_type;
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(lidar_type.getSerializedSizeProvider(&lidar)());
+  ASSERT_TRUE(lidar_type.serialize(&lidar, &payload));
+  std::string got;
+  EXPECT_TRUE(bus::turbine_id_of_payload(payload.data, payload.length, got));
+  EXPECT_EQ(got, "WT03");
+}
+
+TEST(ContentFilter, ATruncatedOrForeignPayloadIsNoTurbine) {
+  eprosima::fastrtps::rtps::SerializedPayload_t payload, second;
+  serialize_frame("WT07", payload);
+  serialize_frame("WT07", second);
+  std::string got;
+  EXPECT_FALSE(bus::turbine_id_of_payload(payload.data, 15, got));  // cut inside the string's length
+  EXPECT_FALSE(bus::turbine_id_of_payload(payload.data, 18, got));  // cut inside the id
+  payload.data[1] = 0x03;                                           // PL_CDR_LE: not a plain struct
+  EXPECT_FALSE(bus::turbine_id_of_payload(payload.data, payload.length, got));
+  second.data[15] = 0x7f;  // a string length past the payload
+  EXPECT_FALSE(bus::turbine_id_of_payload(second.data, second.length, got));
+}
+
+TEST(ContentFilter, TheFactorysFilterPassesTheSelectedTurbinesOnly) {
+  auto& factory = bus::TurbineFilterFactory::instance();
+  eprosima::fastdds::dds::IContentFilter* filter = nullptr;
+  const eprosima::fastdds::dds::LoanableSequence<const char*> none;
+  ASSERT_EQ(factory.create_content_filter(bus::kTurbineFilterClass, "windfdi::TurbineFrame", nullptr,
+                                          "WT001..WT250 WT400", none, filter),
+            eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK);
+  const eprosima::fastdds::dds::IContentFilter::FilterSampleInfo info;
+  const eprosima::fastrtps::rtps::GUID_t reader;
+  for (const auto& [id, pass] : std::vector<std::pair<std::string, bool>>{
+           {"WT001", true}, {"WT120", true}, {"WT400", true}, {"WT251", false}, {"T001", false}}) {
+    eprosima::fastrtps::rtps::SerializedPayload_t payload;
+    serialize_frame(id, payload);
+    EXPECT_EQ(filter->evaluate(payload, info, reader), pass) << id;
+  }
+  // A malformed range is refused and the filter in hand kept.
+  auto* before = filter;
+  EXPECT_NE(factory.create_content_filter(bus::kTurbineFilterClass, "windfdi::TurbineFrame", nullptr,
+                                          "WT09..WT01", none, filter),
+            eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK);
+  EXPECT_EQ(filter, before);
+  factory.delete_content_filter(bus::kTurbineFilterClass, filter);
 }
 
 TEST(TurbineSelection, IdsAndRangesSelectTheirTurbines) {
