@@ -47,7 +47,11 @@ class ArbiterNode {
     double last_published = -1e300;
     TurbineClock clock;  ///< the decision's time base (sample time of the turbine's inputs)
     std::vector<std::string> traced_reports;  ///< reports taken since the last configuration (WINDFDI_TRACE)
+    bool dirty = true;                        ///< an input came since it was last decided on
   };
+  static constexpr double kFullPassPeriod =
+      0.095;  ///< s between decisions on every turbine (the loop waits 0.1)
+  double last_full_pass_ = -1e300;
   Turbine& turbine(const std::string& id);
   bool serves(const std::string& id) const;
   void handle_inputs(double now);
@@ -67,7 +71,7 @@ class ArbiterNode {
   bus::Reader<windfdi::FaultReport> faults_;
   bus::Reader<windfdi::ServiceHealth> health_in_;
   bus::Reader<windfdi::InertiaEstimate> inertia_;
-  bus::Reader<windfdi::PitchActuatorEstimate> pitch_;  ///< 10 Hz: keeps the turbine clocks going
+  bus::Reader<windfdi::PitchActuatorEstimate> pitch_;  ///< 10 Hz: keeps the turbine clocks going (no wake-up)
   bus::Reader<windfdi::FaultAck> acks_;
   bus::Writer<windfdi::ControlConfiguration> config_out_;
   HealthReporter health_;
