@@ -16,7 +16,8 @@ constexpr const char* kTurbineFilterClass = "WINDFDI_TURBINE";
 std::string turbine_filter_expression(const std::vector<std::string>& turbine_ids);
 
 /// The turbine id of a serialized sample whose type starts `double t; string turbine_id;` (TurbineFrame,
-/// LidarFrame), plain CDR or CDR2 in either byte order; false when the payload is not such a sample.
+/// LidarFrame: every topic with TopicTraits::writer_filtering; ControlConfiguration too), plain CDR or CDR2
+/// in either byte order; false when the payload is not such a sample.
 bool turbine_id_of_payload(const unsigned char* data, std::size_t length, std::string& turbine_id);
 
 /// Fast DDS 2.9's built-in SQL filter builds a DynamicData of the whole sample for every evaluation

@@ -10,12 +10,12 @@
 # Each N runs SECONDS (the first 10 s not judged). One host tries each N of the list, two hosts each 2 N;
 # each stops at the first N it does not keep up with.
 #
-# Usage (root: namespaces and cgroups): farm_shards.sh [SECONDS=30] [QUOTA=30] [N ...=20 40 60 80 100]
+# Usage (root: namespaces and cgroups): farm_shards.sh [SECONDS=30] [QUOTA=20] [N ...=30 40 50 ... 150]
 set -euo pipefail
 . "$(dirname "$0")/dds_run.sh"
 meter=${SYSTEM_LATENCY_BIN:-$bin/system_latency}
-secs=${1:-30}; quota=${2:-30}; shift 2 || shift $#
-list=("$@"); [ ${#list[@]} -gt 0 ] || list=(20 40 60 80 100)
+secs=${1:-30}; quota=${2:-20}; shift 2 || shift $#
+list=("$@"); [ ${#list[@]} -gt 0 ] || list=($(seq 30 10 150))
 warm=10
 if [ "$(id -u)" != 0 ] || ! command -v ip > /dev/null; then echo "farm_shards: needs root and iproute2"; exit 1; fi
 cg=""

@@ -3,6 +3,7 @@
 
 #include <fastdds/dds/core/LoanableSequence.hpp>
 
+#include "ControlConfigurationPubSubTypes.h"
 #include "LidarFramePubSubTypes.h"
 #include "TurbineFramePubSubTypes.h"
 #include "dds/convert.hpp"
@@ -89,6 +90,7 @@ TEST(ContentFilter, TheTurbineIdIsReadFromTheSerializedFrame) {
     EXPECT_TRUE(bus::turbine_id_of_payload(payload.data, payload.length, got)) << id;
     EXPECT_EQ(got, id);
   }
+  // LidarFrame (filtered at the writer too) and ControlConfiguration have the same first members.
   windfdi::LidarFrame lidar;
   lidar.turbine_id("WT03");
   windfdi::LidarFramePubSubType lidar_type;
@@ -97,6 +99,15 @@ TEST(ContentFilter, TheTurbineIdIsReadFromTheSerializedFrame) {
   std::string got;
   EXPECT_TRUE(bus::turbine_id_of_payload(payload.data, payload.length, got));
   EXPECT_EQ(got, "WT03");
+  windfdi::ControlConfiguration config;
+  config.turbine_id("WT04");
+  config.arbiter_id("arbiter-a");
+  windfdi::ControlConfigurationPubSubType config_type;
+  eprosima::fastrtps::rtps::SerializedPayload_t config_payload(
+      config_type.getSerializedSizeProvider(&config)());
+  ASSERT_TRUE(config_type.serialize(&config, &config_payload));
+  EXPECT_TRUE(bus::turbine_id_of_payload(config_payload.data, config_payload.length, got));
+  EXPECT_EQ(got, "WT04");
 }
 
 TEST(ContentFilter, ATruncatedOrForeignPayloadIsNoTurbine) {
