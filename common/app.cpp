@@ -29,7 +29,7 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
          "serve only this turbine id, or the ids FIRST..LAST in byte order (repeatable; default: every "
          "turbine)")
       ->take_all()
-      ->check(turbine_range_error);
+      ->check(turbine_selection_error);
   app.add_option("--log-level", o.log_level, "trace, debug, info, warn, error, critical or off")
       ->capture_default_str();
   app.add_option("--qos", o.qos_file, "Fast DDS XML QoS profile file (default deploy/qos/windfdi_qos.xml)");

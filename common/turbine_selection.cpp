@@ -16,7 +16,10 @@ std::pair<std::string, std::string> split_range(const std::string& value) {
 }
 }  // namespace
 
-std::string turbine_range_error(const std::string& value) {
+std::string turbine_selection_error(const std::string& value) {
+  if (value.empty()) return "an empty turbine id";
+  if (value.find_first_of(" \t\n\r") != std::string::npos)
+    return "'" + value + "': a turbine id has no spaces";
   if (!is_turbine_range(value)) return "";
   const auto [first, last] = split_range(value);
   if (first.empty() || last.empty() || is_turbine_range(last))
@@ -26,7 +29,7 @@ std::string turbine_range_error(const std::string& value) {
 }
 
 std::pair<std::string, std::string> turbine_range(const std::string& value) {
-  const std::string error = turbine_range_error(value);
+  const std::string error = turbine_selection_error(value);
   if (!error.empty()) throw ConfigError("--turbine", 0, value, error);
   return split_range(value);
 }

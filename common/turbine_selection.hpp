@@ -15,8 +15,9 @@ bool is_turbine_range(const std::string& value);
 /// an empty bound or FIRST after LAST.
 std::pair<std::string, std::string> turbine_range(const std::string& value);
 
-/// Why a --turbine value is not a valid range ("" for a plain id or a valid range).
-std::string turbine_range_error(const std::string& value);
+/// Why a --turbine value is not a valid id or range ("" when it is): empty, a space in it (the DDS filter
+/// expression separates values by spaces), or a malformed or empty range.
+std::string turbine_selection_error(const std::string& value);
 
 /// Whether `turbine_id` is selected by the --turbine values (none: every turbine).
 bool turbine_selected(const std::vector<std::string>& selection, const std::string& turbine_id);

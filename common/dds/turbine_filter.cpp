@@ -82,7 +82,7 @@ ReturnCode TurbineFilterFactory::create_content_filter(const char*, const char*,
   std::vector<std::string> selection;
   std::istringstream in(filter_expression);
   for (std::string value; in >> value;) {
-    if (!turbine_range_error(value).empty()) return ReturnCode::RETCODE_BAD_PARAMETER;
+    if (!turbine_selection_error(value).empty()) return ReturnCode::RETCODE_BAD_PARAMETER;
     selection.push_back(value);
   }
   if (selection.empty()) return ReturnCode::RETCODE_BAD_PARAMETER;

@@ -159,6 +159,14 @@ TEST(TurbineSelection, IdsAndRangesSelectTheirTurbines) {
   EXPECT_EQ(windfdi::turbine_ids(selection), std::vector<std::string>{"WT400"});
 }
 
+TEST(TurbineSelection, AnIdWithASpaceOrNothingIsRefused) {
+  // The filter expression separates the values by spaces: "WT 01" would select WT and 01.
+  EXPECT_NE(windfdi::turbine_selection_error("WT 01"), "");
+  EXPECT_NE(windfdi::turbine_selection_error(""), "");
+  EXPECT_EQ(windfdi::turbine_selection_error("WT01"), "");
+  EXPECT_EQ(windfdi::turbine_selection_error("WT01..WT09"), "");
+}
+
 TEST(TurbineSelection, AMalformedRangeIsAConfigErrorNamingIt) {
   for (const char* bad : {"..WT02", "WT01..", "WT09..WT01", "WT01..WT05..WT09"}) {
     try {
