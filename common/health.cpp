@@ -11,7 +11,7 @@ HealthReporter::HealthReporter(bus::Participant& participant, std::string servic
                                std::vector<std::string> turbines)
     : writer_(participant), service_(std::move(service)) {
   // A range's turbines are reported as they are seen, as a farm-wide instance's are.
-  turbines = turbine_ids(turbines);
+  turbines = TurbineSelection(turbines).ids();
   if (turbines.empty()) turbines.push_back("*");
   for (const auto& t : turbines) counters_[t];
 }

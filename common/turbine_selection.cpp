@@ -7,12 +7,11 @@
 
 namespace windfdi {
 
-bool is_turbine_range(const std::string& value) { return value.find("..") != std::string::npos; }
-
 namespace {
-std::pair<std::string, std::string> split_range(const std::string& value) {
-  const auto dots = value.find("..");
-  return {value.substr(0, dots), value.substr(dots + 2)};
+constexpr std::string_view kRangeDots = "..";
+
+std::pair<std::string, std::string> split_range(const std::string& value, std::size_t dots) {
+  return {value.substr(0, dots), value.substr(dots + kRangeDots.size())};
 }
 }  // namespace
 
@@ -20,34 +19,33 @@ std::string turbine_selection_error(const std::string& value) {
   if (value.empty()) return "an empty turbine id";
   if (value.find_first_of(" \t\n\r") != std::string::npos)
     return "'" + value + "': a turbine id has no spaces";
-  if (!is_turbine_range(value)) return "";
-  const auto [first, last] = split_range(value);
-  if (first.empty() || last.empty() || is_turbine_range(last))
+  const auto dots = value.find(kRangeDots);
+  if (dots == std::string::npos) return "";
+  const auto [first, last] = split_range(value, dots);
+  if (first.empty() || last.empty() || last.find(kRangeDots) != std::string::npos)
     return "'" + value + "' is not a range FIRST..LAST of two ids (e.g. WT001..WT250)";
   if (last < first) return "'" + value + "': FIRST comes after LAST in byte order, the range is empty";
   return "";
 }
 
-std::pair<std::string, std::string> turbine_range(const std::string& value) {
-  const std::string error = turbine_selection_error(value);
-  if (!error.empty()) throw ConfigError("--turbine", 0, value, error);
-  return split_range(value);
+TurbineSelection::TurbineSelection(const std::vector<std::string>& values) {
+  for (const auto& value : values) {
+    const std::string error = turbine_selection_error(value);
+    if (!error.empty()) throw ConfigError("--turbine", 0, value, error);
+    const auto dots = value.find(kRangeDots);
+    if (dots == std::string::npos)
+      ids_.push_back(value);
+    else
+      ranges_.push_back(split_range(value, dots));
+  }
 }
 
-bool turbine_selected(const std::vector<std::string>& selection, const std::string& turbine_id) {
-  if (selection.empty()) return true;
-  return std::any_of(selection.begin(), selection.end(), [&](const std::string& value) {
-    if (!is_turbine_range(value)) return value == turbine_id;
-    const auto [first, last] = turbine_range(value);
-    return first <= turbine_id && turbine_id <= last;
+bool TurbineSelection::contains(std::string_view turbine_id) const {
+  if (all()) return true;
+  if (std::find(ids_.begin(), ids_.end(), turbine_id) != ids_.end()) return true;
+  return std::any_of(ranges_.begin(), ranges_.end(), [&](const auto& range) {
+    return std::string_view(range.first) <= turbine_id && turbine_id <= std::string_view(range.second);
   });
-}
-
-std::vector<std::string> turbine_ids(const std::vector<std::string>& selection) {
-  std::vector<std::string> ids;
-  for (const auto& value : selection)
-    if (!is_turbine_range(value)) ids.push_back(value);
-  return ids;
 }
 
 }  // namespace windfdi

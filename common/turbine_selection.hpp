@@ -2,27 +2,36 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
 namespace windfdi {
 
-/// Whether a --turbine value is a range "FIRST..LAST".
-bool is_turbine_range(const std::string& value);
-
-/// The bounds of a range "FIRST..LAST": every id with FIRST <= id <= LAST in byte order, so numbers in ids
-/// need zero padding (WT001..WT250 holds WT010; WT1..WT250 does not). Throws ConfigError (key --turbine) for
-/// an empty bound or FIRST after LAST.
-std::pair<std::string, std::string> turbine_range(const std::string& value);
-
 /// Why a --turbine value is not a valid id or range ("" when it is): empty, a space in it (the DDS filter
 /// expression separates values by spaces), or a malformed or empty range.
 std::string turbine_selection_error(const std::string& value);
 
-/// Whether `turbine_id` is selected by the --turbine values (none: every turbine).
-bool turbine_selected(const std::vector<std::string>& selection, const std::string& turbine_id);
+/// The --turbine values parsed once, so that asking about a turbine (per sample, in the frame writer's
+/// filter and the arbiter) neither re-validates nor allocates. A range FIRST..LAST holds every id with
+/// FIRST <= id <= LAST in byte order, so numbers in ids need zero padding (WT001..WT250 holds WT010;
+/// WT1..WT250 does not).
+class TurbineSelection {
+ public:
+  /// No values: every turbine.
+  TurbineSelection() = default;
+  /// Throws ConfigError (key --turbine) naming the first invalid value.
+  explicit TurbineSelection(const std::vector<std::string>& values);
 
-/// The plain ids among the --turbine values (ranges left out).
-std::vector<std::string> turbine_ids(const std::vector<std::string>& selection);
+  bool contains(std::string_view turbine_id) const;
+  /// Whether no value was given (every turbine is served).
+  bool all() const { return ids_.empty() && ranges_.empty(); }
+  /// The plain ids among the values (ranges left out): the turbines known before any sample arrives.
+  const std::vector<std::string>& ids() const { return ids_; }
+
+ private:
+  std::vector<std::string> ids_;
+  std::vector<std::pair<std::string, std::string>> ranges_;  // FIRST, LAST
+};
 
 }  // namespace windfdi

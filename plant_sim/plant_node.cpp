@@ -96,11 +96,12 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
   if (o.duration >= 0.0) sc.duration = o.duration;
   if (o.block < 1 || o.block > 32) throw ConfigError("--block", 0, "", "must be 1..32");
   const double dt = 1.0 / sc.sample_rate;
+  const TurbineSelection selection(common.turbines);
   std::vector<std::string> ids;
   std::map<std::string, TurbineRun> runs;
   std::vector<std::string> fault_columns;
   for (const auto& t : sc.turbines) {
-    if (!turbine_selected(common.turbines, t.id)) continue;
+    if (!selection.contains(t.id)) continue;
     ids.push_back(t.id);
     auto& run = runs.try_emplace(t.id, o.config_lease).first->second;
     const auto faults = sc.faults_of(t.id);

@@ -4,7 +4,6 @@
 #include <spdlog/spdlog.h>
 
 #include <atomic>
-#include <cstring>
 #include <sstream>
 
 #include "turbine_selection.hpp"
@@ -18,11 +17,11 @@ namespace {
 
 class TurbineFilter final : public IContentFilter {
  public:
-  explicit TurbineFilter(std::vector<std::string> selection) : selection_(std::move(selection)) {}
+  explicit TurbineFilter(TurbineSelection selection) : selection_(std::move(selection)) {}
 
   bool evaluate(const SerializedPayload& payload, const FilterSampleInfo&, const GUID_t&) const override {
-    // Reused per thread: no allocation per evaluation once an id has been seen.
-    thread_local std::string id;
+    // Evaluated per sample per filtered reader: a view into the payload, no copy.
+    std::string_view id;
     if (!turbine_id_of_payload(payload.data, payload.length, id)) {
       static std::atomic<bool> warned{false};
       if (!warned.exchange(true))
@@ -32,11 +31,11 @@ class TurbineFilter final : public IContentFilter {
             payload.length > 1 ? payload.data[0] : 0, payload.length > 1 ? payload.data[1] : 0);
       return false;
     }
-    return turbine_selected(selection_, id);
+    return selection_.contains(id);
   }
 
  private:
-  std::vector<std::string> selection_;
+  TurbineSelection selection_;
 };
 
 }  // namespace
@@ -47,7 +46,7 @@ std::string turbine_filter_expression(const std::vector<std::string>& turbine_id
   return expr;
 }
 
-bool turbine_id_of_payload(const unsigned char* data, std::size_t length, std::string& turbine_id) {
+bool turbine_id_of_payload(const unsigned char* data, std::size_t length, std::string_view& turbine_id) {
   // Encapsulation (2 bytes representation, 2 options), then the double t at 0 and the string's length at 8
   // (CDR and CDR2 align alike here), counting its terminating NUL, then its characters.
   constexpr std::size_t kHeader = 4, kLength = kHeader + 8, kChars = kLength + 4;
@@ -65,7 +64,7 @@ bool turbine_id_of_payload(const unsigned char* data, std::size_t length, std::s
       little_endian ? (uint32_t(l[0]) | uint32_t(l[1]) << 8 | uint32_t(l[2]) << 16 | uint32_t(l[3]) << 24)
                     : (uint32_t(l[3]) | uint32_t(l[2]) << 8 | uint32_t(l[1]) << 16 | uint32_t(l[0]) << 24);
   if (size < 1 || size > length - kChars || data[kChars + size - 1] != 0) return false;
-  turbine_id.assign(reinterpret_cast<const char*>(data + kChars), size - 1);
+  turbine_id = std::string_view(reinterpret_cast<const char*>(data + kChars), size - 1);
   return true;
 }
 
@@ -79,16 +78,16 @@ ReturnCode TurbineFilterFactory::create_content_filter(const char*, const char*,
                                                        IContentFilter*& filter_instance) {
   // No expression: only the parameters change, and this filter has none.
   if (!filter_expression) return filter_instance ? ReturnCode::RETCODE_OK : ReturnCode::RETCODE_BAD_PARAMETER;
-  std::vector<std::string> selection;
+  std::vector<std::string> values;
   std::istringstream in(filter_expression);
   for (std::string value; in >> value;) {
     if (!turbine_selection_error(value).empty()) return ReturnCode::RETCODE_BAD_PARAMETER;
-    selection.push_back(value);
+    values.push_back(value);
   }
-  if (selection.empty()) return ReturnCode::RETCODE_BAD_PARAMETER;
+  if (values.empty()) return ReturnCode::RETCODE_BAD_PARAMETER;
   // Fast DDS hands back the filter it made before when the expression changes: replace it.
   delete static_cast<TurbineFilter*>(filter_instance);
-  filter_instance = new TurbineFilter(std::move(selection));
+  filter_instance = new TurbineFilter(TurbineSelection(values));
   return ReturnCode::RETCODE_OK;
 }
 

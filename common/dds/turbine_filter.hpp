@@ -3,6 +3,7 @@
 
 #include <fastdds/dds/topic/IContentFilterFactory.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace windfdi::bus {
@@ -17,8 +18,8 @@ std::string turbine_filter_expression(const std::vector<std::string>& turbine_id
 
 /// The turbine id of a serialized sample whose type starts `double t; string turbine_id;` (TurbineFrame,
 /// LidarFrame: every topic with TopicTraits::writer_filtering; ControlConfiguration too), plain CDR or CDR2
-/// in either byte order; false when the payload is not such a sample.
-bool turbine_id_of_payload(const unsigned char* data, std::size_t length, std::string& turbine_id);
+/// in either byte order; false when the payload is not such a sample. The id is a view into `data`.
+bool turbine_id_of_payload(const unsigned char* data, std::size_t length, std::string_view& turbine_id);
 
 /// Fast DDS 2.9's built-in SQL filter builds a DynamicData of the whole sample for every evaluation
 /// (a TurbineFrame block of 10 samples, with exceptions thrown and caught inside): with the four services of

@@ -42,6 +42,7 @@ windfdi::ControlConfiguration to_idl(const Configuration& c, const std::string& 
 
 ArbiterNode::ArbiterNode(const CommonOptions& common, const ArbiterConfig& config, const NodeOptions& options)
     : common_(common),
+      served_(common.turbines),
       config_(config),
       options_(options),
       participant_(participant_options(common, "windfdi-arbiter")),
@@ -57,9 +58,7 @@ ArbiterNode::ArbiterNode(const CommonOptions& common, const ArbiterConfig& confi
       health_(participant_, "arbiter", common.turbines),
       trace_("arbiter") {}
 
-bool ArbiterNode::serves(const std::string& id) const {
-  return id != "*" && turbine_selected(common_.turbines, id);
-}
+bool ArbiterNode::serves(const std::string& id) const { return id != "*" && served_.contains(id); }
 
 ArbiterNode::Turbine& ArbiterNode::turbine(const std::string& id) {
   auto it = turbines_.find(id);
@@ -195,7 +194,7 @@ bool ArbiterNode::report_arrived() {
 void ArbiterNode::run() {
   {
     std::lock_guard<std::mutex> lock(step_mutex_);
-    for (const auto& id : turbine_ids(common_.turbines)) turbine(id);
+    for (const auto& id : served_.ids()) turbine(id);
     health_.set_state(windfdi::SERVICE_OK);
     running_ = true;
   }

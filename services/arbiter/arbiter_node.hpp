@@ -21,6 +21,7 @@
 #include "pitch_diag_estimate_topic.hpp"
 #include "service_liveliness.hpp"
 #include "turbine_clock.hpp"
+#include "turbine_selection.hpp"
 
 namespace windfdi::arbiter {
 
@@ -58,6 +59,7 @@ class ArbiterNode {
   void publish_configurations(double now);
 
   CommonOptions common_;
+  TurbineSelection served_;  ///< common_.turbines, parsed once (serves() runs per sample)
   ArbiterConfig config_;
   NodeOptions options_;
   bus::Participant participant_;

@@ -86,7 +86,7 @@ TEST(ContentFilter, TheTurbineIdIsReadFromTheSerializedFrame) {
   for (const std::string id : {"WT07", "", "a-much-longer-turbine-identifier-0001"}) {
     eprosima::fastrtps::rtps::SerializedPayload_t payload;
     serialize_frame(id, payload);
-    std::string got = "unset";
+    std::string_view got = "unset";
     EXPECT_TRUE(bus::turbine_id_of_payload(payload.data, payload.length, got)) << id;
     EXPECT_EQ(got, id);
   }
@@ -96,7 +96,7 @@ TEST(ContentFilter, TheTurbineIdIsReadFromTheSerializedFrame) {
   windfdi::LidarFramePubSubType lidar_type;
   eprosima::fastrtps::rtps::SerializedPayload_t payload(lidar_type.getSerializedSizeProvider(&lidar)());
   ASSERT_TRUE(lidar_type.serialize(&lidar, &payload));
-  std::string got;
+  std::string_view got;
   EXPECT_TRUE(bus::turbine_id_of_payload(payload.data, payload.length, got));
   EXPECT_EQ(got, "WT03");
   windfdi::ControlConfiguration config;
@@ -114,7 +114,7 @@ TEST(ContentFilter, ATruncatedOrForeignPayloadIsNoTurbine) {
   eprosima::fastrtps::rtps::SerializedPayload_t payload, second;
   serialize_frame("WT07", payload);
   serialize_frame("WT07", second);
-  std::string got;
+  std::string_view got;
   EXPECT_FALSE(bus::turbine_id_of_payload(payload.data, 15, got));  // cut inside the string's length
   EXPECT_FALSE(bus::turbine_id_of_payload(payload.data, 18, got));  // cut inside the id
   payload.data[1] = 0x03;                                           // PL_CDR_LE: not a plain struct
@@ -148,15 +148,17 @@ TEST(ContentFilter, TheFactorysFilterPassesTheSelectedTurbinesOnly) {
 }
 
 TEST(TurbineSelection, IdsAndRangesSelectTheirTurbines) {
-  EXPECT_TRUE(windfdi::turbine_selected({}, "WT07"));  // none: every turbine
-  const std::vector<std::string> selection{"WT001..WT250", "WT400"};
+  EXPECT_TRUE(windfdi::TurbineSelection().contains("WT07"));  // none: every turbine
+  EXPECT_TRUE(windfdi::TurbineSelection().all());
+  const windfdi::TurbineSelection selection({"WT001..WT250", "WT400"});
+  EXPECT_FALSE(selection.all());
   for (const char* id : {"WT001", "WT010", "WT099", "WT250", "WT400"})
-    EXPECT_TRUE(windfdi::turbine_selected(selection, id)) << id;
-  for (const char* id : {"WT000", "WT251", "WT399", "WT2500", "T001"})
-    EXPECT_FALSE(windfdi::turbine_selected(selection, id)) << id;
+    EXPECT_TRUE(selection.contains(id)) << id;
+  for (const char* id : {"WT000", "WT251", "WT399", "WT2500", "T001", ""})
+    EXPECT_FALSE(selection.contains(id)) << id;
   // Byte order, as the DDS filter compares: an id without the padding falls where its characters say.
-  EXPECT_TRUE(windfdi::turbine_selected(selection, "WT1"));
-  EXPECT_EQ(windfdi::turbine_ids(selection), std::vector<std::string>{"WT400"});
+  EXPECT_TRUE(selection.contains("WT1"));
+  EXPECT_EQ(selection.ids(), std::vector<std::string>{"WT400"});
 }
 
 TEST(TurbineSelection, AnIdWithASpaceOrNothingIsRefused) {
@@ -170,7 +172,7 @@ TEST(TurbineSelection, AnIdWithASpaceOrNothingIsRefused) {
 TEST(TurbineSelection, AMalformedRangeIsAConfigErrorNamingIt) {
   for (const char* bad : {"..WT02", "WT01..", "WT09..WT01", "WT01..WT05..WT09"}) {
     try {
-      windfdi::turbine_range(bad);
+      windfdi::TurbineSelection({"WT01", bad});
       ADD_FAILURE() << bad << " accepted";
     } catch (const windfdi::ConfigError& e) {
       EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
