@@ -33,6 +33,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
                         "clear_time",
                         "filter_time",
                         "settle_time",
+                        "reconfiguration_hold",
                         "witness_torque_share",
                         "witness_torque_min",
                         "max_tracking_error",
@@ -81,6 +82,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   c.clear_time = s.get_number("clear_time", c.clear_time, 0.0, 3600.0);
   c.filter_time = s.get_number("filter_time", c.filter_time, 0.0, 600.0);
   c.settle_time = s.get_number("settle_time", c.settle_time, 0.0, 3600.0);
+  c.reconfiguration_hold = s.get_number("reconfiguration_hold", c.reconfiguration_hold, 0.0, 600.0);
   const double rated_torque =
       turbine.rated_power / (turbine.generator_efficiency * turbine.rated_generator_speed);
   c.witness_torque_min = s.get_number(
@@ -228,10 +230,28 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       continue;
     }
     const Eigen::Matrix<double, 1, 1> yv(y), uv(r);
-    double reference_step = 0.0;  // deg since the last valid sample (the offset fit keeps that reference)
-    {
-      auto& fit = pitch_offset_[static_cast<std::size_t>(i)];
-      if (fit.started) reference_step = std::fabs(r - fit.last_ref);
+    const std::size_t b = static_cast<std::size_t>(i);
+    auto& fit = pitch_offset_[b];
+    // deg since the last valid sample (the offset fit keeps that reference)
+    const double reference_step = fit.started ? std::fabs(r - fit.last_ref) : 0.0;
+    if (!paper) {
+      // The actuator is outrun by a reference that moves faster than its rate limit (the arbiter's, or the
+      // turbine's): a safe stop's jump to feather, a reconfiguration's step, a derated blade. The
+      // controller's own reference moves at up to 9.8 deg/s under the 10 deg/s limit (21 m/s, TI 0.16), so a
+      // fifth above the limit is a jump. The actuator then runs at its rate limit until the pitch, corrected
+      // by the bias known before the jump, is back near its reference: a healthy blade tracks within 1.5 deg.
+      const double rate_limit = std::min(turbine_.pitch_rate_limit, context_.pitch_rate_limit[b]);
+      if (reference_step > kOutrunRatio * rate_limit * dt_) outrun_[b] = true;
+      const double held_bias = pitch_init_[b] ? pitch_obs_[b].state()(2) : 0.0;
+      if (std::fabs(r - (y - held_bias)) <= 0.5 * cfg_.max_tracking_error) outrun_[b] = false;
+    }
+    if (!paper && cfg_.max_tracking_error > 0.0 && outrun_[b] && y != last_pitch_[b]) {
+      // The offset fit and the gain-or-offset record model a linear lag; a rate-limited actuator's error is
+      // no lag: a derate to 5 deg/s that the controller outran near rated wind took a biased blade's offset
+      // to 0 and cleared its bias (the reliability campaign). They follow the reference only. A reading
+      // repeated to the bit (a stuck sensor) is no outrun actuator.
+      fit.follow(r, dt_, rate_a_);
+    } else {
       fit.update(y - r, r, dt_, pitch_offset_forget_, rate_a_);
       fault_type_[c].add(y - r, r, fit.v_lp);
     }
@@ -244,18 +264,9 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       if (!pitch_init_[static_cast<std::size_t>(i)]) o.reset(Eigen::Vector4d(y, 0.0, 0.0, 0.0));
       const Eigen::Vector2d held = o.state().tail<2>();
       o.step(yv, uv);
-      const std::size_t b = static_cast<std::size_t>(i);
       repeated_[b] = y == last_pitch_[b] ? repeated_[b] + 1 : 0;
       last_pitch_[b] = y;
       const bool stuck = cfg_.stuck_time > 0.0 && repeated_[b] * dt_ >= cfg_.stuck_time;
-      // The actuator is outrun by a reference that moves faster than its rate limit (the arbiter's, or the
-      // turbine's): a safe stop's jump to feather, a reconfiguration's step, a derated blade. The
-      // controller's own reference moves at up to 9.8 deg/s under the 10 deg/s limit (21 m/s, TI 0.16), so a
-      // fifth above the limit is a jump. The actuator then runs at its rate limit until the pitch, corrected
-      // by the bias known before the jump, is back near its reference: a healthy blade tracks within 1.5 deg.
-      const double rate_limit = std::min(turbine_.pitch_rate_limit, context_.pitch_rate_limit[b]);
-      if (reference_step > kOutrunRatio * rate_limit * dt_) outrun_[b] = true;
-      if (std::fabs(r - (y - held(0))) <= 0.5 * cfg_.max_tracking_error) outrun_[b] = false;
       if (context_.pitch_actuator_suspect[b]) {
         // Another service (pitch_diag) reports this blade's actuator: the observer's healthy actuator model
         // would turn the actuator's fault into a sensor bias. Hold, as below.
@@ -394,6 +405,15 @@ void BiasEstimator::OffsetFit::update(double r, double ref, double dt, double fo
   svr = forget * svr + v_lp * r;
 }
 
+void BiasEstimator::OffsetFit::follow(double ref, double dt, double rate_a) {
+  if (!started) {
+    started = true;
+    last_ref = ref;
+  }
+  v_lp += rate_a * ((ref - last_ref) / dt - v_lp);
+  last_ref = ref;
+}
+
 double BiasEstimator::OffsetFit::offset() const {
   // Normal equations of [1 -v] [b tau]^T = r; a window without reference motion leaves tau undetermined, and
   // then the offset is the plain mean.
@@ -470,6 +490,12 @@ void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
     // The gain-or-offset record starts at the onset: while the channel is quiet it is restarted.
     if (!raised_[k] && std::fabs(filtered_[k]) < 0.25 * cfg_.threshold[k]) fault_type_[k].restart();
     if (t - start_ < cfg_.settle_time) {
+      above_since_[k] = below_since_[k] = -1.0;
+      continue;
+    }
+    if (k >= 2 && t - reconfigured_at_ < cfg_.reconfiguration_hold) {
+      // The blades' rate limits or the stop just changed: the pitch's transient is no new fault, and no
+      // reason to clear one either.
       above_since_[k] = below_since_[k] = -1.0;
       continue;
     }

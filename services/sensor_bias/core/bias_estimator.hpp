@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,8 @@ struct BiasConfig {
   double clear_time = 5.0;    ///< s below the clear level before it clears
   double filter_time = 0.3;   ///< s, first-order low-pass on the bias estimate before the threshold test
   double settle_time = 20.0;  ///< s after the first (or after a gap) sample before anything is raised
+  double reconfiguration_hold =
+      10.0;  ///< s after the blades' rate limits or the stop change: pitch judgement held
   /// Observer mode: the generator-speed witness P / (eta_g T_g) is used only while the measured torque is
   /// above this (its noise grows as 1 / T_g).
   double witness_torque_min =
@@ -168,7 +171,9 @@ class BiasEstimator {
   uint64_t actuator_holds() const { return actuator_holds_; }
   /// The inputs' context (input_context.hpp) from sample time t on.
   void set_context(const InputContext& context, double t) {
-    (void)t;
+    if (context.pitch_rate_limit != context_.pitch_rate_limit ||
+        context.turbine_stopped != context_.turbine_stopped)
+      reconfigured_at_ = t;
     context_ = context;
   }
   uint64_t fed_drive_train() const { return fed_dt_; }
@@ -219,6 +224,7 @@ class BiasEstimator {
   uint64_t rejected_ = 0, fed_dt_ = 0, witness_used_ = 0, tracking_holds_ = 0, actuator_holds_ = 0;
   InputContext context_;
   std::array<double, 3> last_pitch_{};
+  double reconfigured_at_ = -std::numeric_limits<double>::infinity();  ///< sample time of the last change
   std::array<int, 3> repeated_{};  // consecutive samples with the same pitch reading
   // The reference moved faster than the actuator can follow, and the pitch has not caught up with it yet.
   std::array<bool, 3> outrun_{};
@@ -236,6 +242,8 @@ class BiasEstimator {
     double v_lp = 0, last_ref = 0;
     bool started = false;
     void update(double r, double ref, double dt, double forget, double rate_a);
+    /// Keeps the reference's rate without fitting (while the actuator is rate-limited).
+    void follow(double ref, double dt, double rate_a);
     double offset() const;
   };
   std::array<OffsetFit, 3> pitch_offset_{};

@@ -8,6 +8,7 @@
 
 #include "bias_estimator.hpp"
 #include "design_input.hpp"
+#include "input_context.hpp"
 #include "lti_models.hpp"
 #include "observers.hpp"
 #include "qb_design.hpp"
@@ -909,3 +910,46 @@ TEST(BiasDetector, RaisesAfterRaiseTimeAndClearsWithHysteresis) {
 }
 
 }  // namespace
+
+TEST(ObserverMode, ARaisedPitchBiasStaysRaisedThroughEveryBladeDerated) {
+  // GIVEN a 1 deg bias on pitch sensor 2 from 30 s, raised; then from 150 s for 60 s the arbiter derates
+  // every blade (5 deg/s) and asks for degraded mode, as it does while pitch_diag is lost (the reliability
+  // campaign: a frozen pitch_diag cleared this bias 6 s into the derate, though the bias was still +1.03 deg)
+  // (Before the outrun blade stopped feeding the offset fit and the hold after a reconfiguration: 8 of these
+  // 36 runs cleared the bias within 6 s of the derate, one raised a false sensor_gain on blade 1.)
+  for (const double wind : {13.0, 14.0, 15.0, 16.0, 17.0, 18.0}) {
+    for (uint64_t seed = 1; seed <= 6; ++seed) {
+      TurbineParams p;
+      plant::TurbineScenario t;
+      t.id = "WT01";
+      t.wind.mean = wind;
+      t.wind.turbulence_intensity = 0.1;
+      plant::TurbineSim sim(p, t, {bias("pitch_2", 1.0, 30.0)}, seed, 100.0);
+      const BiasConfig c = config(Mode::kObserver);
+      BiasEstimator est(c, load_gain_file(c.drive_train_gain_file), load_gain_file(c.pitch_gain_file), p);
+      InputContextTracker context("sensor_bias");
+      std::vector<FaultEvent> events;
+      plant::ControlInput derated;
+      derated.mode = plant::OperatingMode::kDegraded;
+      derated.pitch_rate_limit = {5.0, 5.0, 5.0};
+      for (int k = 0; k < 300 * 100; ++k) {
+        const bool derating = k >= 150 * 100 && k < 210 * 100;
+        if (k == 150 * 100) context.on_reconfiguration(false, {5.0, 5.0, 5.0});
+        if (k == 210 * 100) context.on_reconfiguration();
+        FrameSample s = sim.step(derating ? derated : plant::ControlInput{});
+        s.aero_torque = s.aero_power = kNaN;
+        est.set_context(context.context(), s.t);
+        est.update(s, false, events);
+      }
+      // THEN pitch sensor 2's bias is raised once and never cleared, and nothing else is raised
+      std::string all;
+      for (const auto& e : events)
+        all +=
+            e.component + " " + e.fault + (e.raised ? " raised " : " cleared ") + std::to_string(e.t) + "; ";
+      EXPECT_EQ(events.size(), 1u) << wind << " m/s seed " << seed << ": " << all;
+      if (events.empty()) continue;
+      EXPECT_EQ(events[0].component, "pitch_sensor_2");
+      EXPECT_TRUE(events[0].raised);
+    }
+  }
+}
