@@ -106,7 +106,7 @@ while read -r svc topic _; do
 done <"$registry"
 PUB[arbiter]="wt/control/config wt/health"
 SUB[arbiter]="wt/fault wt/health wt/estimate/* wt/fault_ack wt/control/config"
-PUB[farm]="wt/fault_ack"
+PUB[farm]="wt/fault_ack wt/health"
 SUB[farm]="wt/*"
 roles=(plant "${services[@]}" arbiter farm)
 if [ $bench = 1 ]; then PUB[bench]="bench/*"; SUB[bench]="bench/*"; roles+=(bench); fi

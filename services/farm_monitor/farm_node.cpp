@@ -21,6 +21,11 @@ std::string setting_name(IdlEnum v, IdlEnum last) {
              : "unknown";
 }
 const char* kServiceStates[] = {"starting", "ok", "degraded", "stopping"};
+// The farm monitor's own name on wt/health; it is no diagnostic service of a turbine.
+const std::string kSelf = "farm_monitor";
+// Events kept in memory while the store fails: about 100 MB, hours of a farm's events (its health changes
+// and configurations are far fewer than that a minute).
+constexpr std::size_t kBacklogCapacity = 500000;
 template <std::size_t N>
 std::string pick(const char* (&names)[N], int i) {
   return (i >= 0 && static_cast<std::size_t>(i) < N) ? names[i] : "unknown";
@@ -46,6 +51,7 @@ ConfigRecord to_record(const windfdi::ControlConfiguration& c, double received_a
 FarmNode::FarmNode(const CommonOptions& common, const FarmOptions& options)
     : options_(options),
       store_(options.db),
+      backlog_(store_, kBacklogCapacity, [this](const StoreBacklog::Record& r) { on_stored(r); }),
       participant_(participant_options(common, "windfdi-farm")),
       faults_(participant_, common.turbines, &wakeup_),
       configs_(participant_, common.turbines, &wakeup_),
@@ -56,6 +62,14 @@ FarmNode::FarmNode(const CommonOptions& common, const FarmOptions& options)
       pitch_estimates_(participant_, common.turbines),
       inertia_estimates_(participant_, common.turbines),
       drive_train_estimates_(participant_, common.turbines) {
+  try {
+    self_health_ = std::make_unique<HealthReporter>(participant_, kSelf, std::vector<std::string>{});
+  } catch (const std::exception& e) {
+    spdlog::warn(
+        "farm monitor: its own health is not published ({}; credentials made before it was granted "
+        "wt/health: deploy/security/make_credentials.sh)",
+        e.what());
+  }
   // The picture survives a restart: start from what the database already knows.
   for (const auto& e : store_.latest_faults()) state_.on_fault(e);
   spdlog::info("farm monitor: database {} holds {} fault events, {} configurations", options.db,
@@ -148,11 +162,15 @@ void FarmNode::store_estimates(double now) {
             {"efficiency", e.efficiency()},
             {"efficiency_reference", e.efficiency_reference()}},
            now);
-  store_.add_estimates(estimate_batch_);
+  backlog_.add_estimates(estimate_batch_);
   estimate_batch_.clear();
-  if (now - pruned_at_ >= 60.0) {
+  if (now - pruned_at_ >= 60.0 && backlog_.error().empty()) {
     pruned_at_ = now;
-    store_.prune_estimates(now - 3600.0 * options_.estimate_retention);
+    try {
+      store_.prune_estimates(now - 3600.0 * options_.estimate_retention);
+    } catch (const std::exception& e) {
+      spdlog::warn("farm store: old estimates not pruned: {}", e.what());
+    }
   }
 }
 
@@ -161,19 +179,15 @@ void FarmNode::handle(double now) {
   faults_.take(reports);
   for (const auto& r : reports) {
     const FaultEvent e = bus::to_event(r);
-    if (store_.add_fault(e, now))
-      spdlog::info("{} {} {} {} ({}) from {}", e.turbine_id, e.component, e.fault,
-                   e.raised ? "RAISED" : "cleared", e.severity, e.source);
+    backlog_.add(StoreBacklog::Fault{e, now});
     state_.on_fault(e);
   }
   std::vector<windfdi::ControlConfiguration> configs;
   configs_.take(configs);
   for (const auto& c : configs) {
-    const ConfigRecord rec = to_record(c, now);
-    if (store_.add_config(rec))
-      spdlog::info("{} configuration r{} from {}: mode {}, ipc {}, ice {}", rec.turbine_id, rec.revision,
-                   rec.arbiter_id, rec.mode, rec.ipc_source, rec.ice_mode);
+    ConfigRecord rec = to_record(c, now);
     state_.on_config(rec);
+    backlog_.add(std::move(rec));
   }
   std::vector<windfdi::ServiceHealth> health;
   bool lost_any = false;
@@ -182,7 +196,8 @@ void FarmNode::handle(double now) {
     lost_any = true;
     spdlog::warn("{}: service {} lost (liveliness)", c.turbine_id, c.service);
     metrics_[c.turbine_id + "/" + c.service].state = "lost";
-    store_.add_health({now, c.turbine_id, c.service, "lost", "liveliness lost"});
+    backlog_.add(HealthRecord{now, c.turbine_id, c.service, "lost", "liveliness lost"});
+    if (c.service == kSelf) continue;  // another farm monitor: no service of a turbine
     if (c.turbine_id != "*") {
       state_.on_service_lost(c.turbine_id, c.service);
       continue;
@@ -193,9 +208,10 @@ void FarmNode::handle(double now) {
       if (!liveliness_.alive(id, c.service)) state_.on_service_lost(id, c.service);
   }
   for (const auto& h : health) {
+    if (h.service() == kSelf) continue;  // its own (keep_store_health) or another farm monitor's
     const std::string state = pick(kServiceStates, h.state());
     ServiceMetrics& m = metrics_[h.turbine_id() + "/" + h.service()];
-    if (m.state != state) store_.add_health({now, h.turbine_id(), h.service(), state, h.detail()});
+    if (m.state != state) backlog_.add(HealthRecord{now, h.turbine_id(), h.service(), state, h.detail()});
     m = {state, h.samples_in(), h.samples_rejected(), h.sequence_gaps(), h.deadlines_missed(), h.lag()};
     if (h.turbine_id() != "*") {
       state_.on_service(h.turbine_id(), h.service(), state);
@@ -206,10 +222,59 @@ void FarmNode::handle(double now) {
       if (!liveliness_.named(id, h.service())) state_.on_service(id, h.service(), state);
   }
   store_estimates(now);
+  keep_store_health(now);
   // The web side gets a copy only when something came in (200 turbines' picture is copied in well under 1
   // ms).
   if (api_ && (!reports.empty() || !configs.empty() || !health.empty() || lost_any))
     api_->update(state_, metrics_);
+}
+
+void FarmNode::on_stored(const StoreBacklog::Record& record) {
+  if (const auto* f = std::get_if<StoreBacklog::Fault>(&record)) {
+    const FaultEvent& e = f->event;
+    spdlog::info("{} {} {} {} ({}) from {}", e.turbine_id, e.component, e.fault,
+                 e.raised ? "RAISED" : "cleared", e.severity, e.source);
+  } else if (const auto* c = std::get_if<ConfigRecord>(&record)) {
+    spdlog::info("{} configuration r{} from {}: mode {}, ipc {}, ice {}", c->turbine_id, c->revision,
+                 c->arbiter_id, c->mode, c->ipc_source, c->ice_mode);
+  }
+}
+
+void FarmNode::keep_store_health(double now) {
+  switch (backlog_.flush(now)) {
+    case StoreBacklog::Change::kFailed:
+      spdlog::error(
+          "farm store {}: cannot write ({}); the farm monitor goes on and keeps up to {} events in "
+          "memory until it can",
+          options_.db, backlog_.error(), kBacklogCapacity);
+      break;
+    case StoreBacklog::Change::kRecovered:
+      spdlog::info(
+          "farm store {}: writing again after {:.0f} s; every event kept was written{}", options_.db,
+          now - backlog_.failing_since(),
+          backlog_.dropped() ? " (" + std::to_string(backlog_.dropped()) + " dropped past the limit)" : "");
+      break;
+    case StoreBacklog::Change::kNone:
+      break;
+  }
+  if (backlog_.dropped() > dropped_logged_) {
+    if (dropped_logged_ == 0)
+      spdlog::error("farm store: {} events wait in memory; newer events are dropped until the store writes",
+                    backlog_.waiting());
+    dropped_logged_ = backlog_.dropped();
+  }
+  const std::string problem = backlog_.describe();
+  const auto state = problem.empty() ? windfdi::SERVICE_OK : windfdi::SERVICE_DEGRADED;
+  if (self_health_) {
+    self_health_->set_state(state, problem);
+    self_health_->set_streams_of(faults_, configs_, health_);
+    self_health_->tick(now);
+  }
+  // Also in /metrics and the page, with or without the DDS writer.
+  ServiceMetrics& self = metrics_["*/" + kSelf];
+  const std::string self_state = state == windfdi::SERVICE_OK ? "ok" : "degraded";
+  if (self.state != self_state) backlog_.add(HealthRecord{now, "*", kSelf, self_state, problem});
+  self.state = self_state;
 }
 
 void FarmNode::run() {

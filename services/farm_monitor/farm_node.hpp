@@ -18,10 +18,12 @@
 #include "farm_http.hpp"
 #include "farm_state.hpp"
 #include "farm_store.hpp"
+#include "health.hpp"
 #include "ice_detect_estimate_topic.hpp"
 #include "pitch_diag_estimate_topic.hpp"
 #include "sensor_bias_estimate_topic.hpp"
 #include "service_liveliness.hpp"
+#include "store_backlog.hpp"
 
 namespace windfdi::farm {
 
@@ -50,8 +52,12 @@ class FarmNode {
   int publish_ack(const std::string& turbine, const std::string& component, const std::string& fault,
                   const std::string& operator_name);
 
+  void on_stored(const StoreBacklog::Record& record);
+  void keep_store_health(double now);
+
   FarmOptions options_;
   FarmStore store_;
+  StoreBacklog backlog_;
   FarmState state_;
   bus::Participant participant_;
   bus::Wakeup wakeup_;
@@ -69,6 +75,10 @@ class FarmNode {
   ServiceLiveliness liveliness_;
   std::map<std::string, ServiceMetrics>
       metrics_;  // turbine/service -> its last health (state stored, /metrics)
+  // The farm monitor's own health (service "farm_monitor", turbine "*"): degraded while its store fails.
+  // Absent when the security grants predate it (the log and /metrics still say it).
+  std::unique_ptr<HealthReporter> self_health_;
+  uint64_t dropped_logged_ = 0;
   // The web side (with --http): destroyed first, so no request reaches a node being torn down.
   std::unique_ptr<bus::Writer<windfdi::FaultAck>> acks_;
   std::unique_ptr<FarmApi> api_;
