@@ -219,3 +219,50 @@ TEST(PitchDiagPlant, AHealthyHourRaisesNothing) {
 }
 
 }  // namespace
+
+TEST(PitchDiagPlant, ARaisedPumpWearKeepsItsNameThroughTheArbitersDegradedMode) {
+  // GIVEN pump wear on blade 1 from 20 s, its blade derated to 5 deg/s once it is raised (the arbiter's
+  // action), then from 120 s for 40 s degraded mode (70 % power: the arbiter's answer to a lost sensor_bias),
+  // then normal again. The reliability campaign saw this rename the raised pump wear a hydraulic leakage for
+  // 6 s (alpha 0.50 on the leak's path), then pump wear again.
+  int runs = 0;
+  for (const double wind : {13.0, 15.0, 16.0, 18.0})
+    for (uint64_t seed = 1; seed <= 4; ++seed) {
+      plant::TurbineScenario t;
+      t.id = "WT01";
+      t.wind.mean = wind;
+      t.wind.turbulence_intensity = 0.1;
+      plant::TurbineSim sim(TurbineParams{}, t, {actuator_fault(0, "pump_wear", 20.0)}, seed, 100.0);
+      PitchDiagnoser diag{PitchDiagConfig{}};
+      InputContextTracker context("pitch_diag");
+      plant::ControlInput in;
+      std::vector<FaultEvent> events, ev;
+      bool derated = false;
+      for (long k = 0; k < 240 * 100; ++k) {
+        const double now = static_cast<double>(k) / 100.0;
+        if (!derated && !events.empty() && events.front().raised) {
+          derated = true;
+          in.pitch_rate_limit[0] = 5.0;
+          context.on_reconfiguration(false, in.pitch_rate_limit);
+        }
+        if (k == 120 * 100 || k == 160 * 100) {
+          in.mode = k == 120 * 100 ? plant::OperatingMode::kDegraded : plant::OperatingMode::kNormal;
+          context.on_reconfiguration(false, in.pitch_rate_limit);
+        }
+        diag.set_context(context.context(), now);
+        ev.clear();
+        diag.update(sim.step(in), false, ev);
+        events.insert(events.end(), ev.begin(), ev.end());
+      }
+      // THEN pump wear is raised on blade 1 and nothing else is ever reported
+      ++runs;
+      std::string all;
+      for (const auto& e : events)
+        all +=
+            e.component + " " + e.fault + (e.raised ? " raised " : " cleared ") + std::to_string(e.t) + "; ";
+      ASSERT_FALSE(events.empty()) << wind << " m/s seed " << seed;
+      EXPECT_EQ(events.front().fault, "pump_wear") << wind << " m/s seed " << seed << ": " << all;
+      EXPECT_EQ(events.size(), 1u) << wind << " m/s seed " << seed << ": " << all;
+    }
+  EXPECT_EQ(runs, 16);
+}
