@@ -92,9 +92,11 @@ int run_replay_mode(const ServiceSpec& spec, const ReplayOptions& options, const
             });
       },
       header);
-  spdlog::info("replay of {}: {} samples, {} rejected, {} lost (sequence gaps), {} estimates, {} events",
-               options.frames, stats.samples, stats.rejected, stats.sequence_gaps, stats.estimates,
-               stats.events);
+  spdlog::info(
+      "replay of {}: {} samples, {} rejected, {} lost (sequence gaps), {} time steps, {} estimates, {} "
+      "events",
+      options.frames, stats.samples, stats.rejected, stats.sequence_gaps, stats.time_steps, stats.estimates,
+      stats.events);
   return kExitOk;
 }
 

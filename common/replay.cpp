@@ -1,6 +1,8 @@
 // The replay contract's driver: recorded frames in, estimates CSV and fault events out.
 #include "replay.hpp"
 
+#include <cmath>
+
 #include "replay_csv.hpp"
 
 namespace windfdi {
@@ -37,6 +39,14 @@ uint64_t SequenceTracker::lost_before(uint64_t sequence) {
   return lost;
 }
 
+double SampleTimeTracker::step(double t) {
+  if (!std::isfinite(t)) return 0.0;
+  const double step = started_ ? t - last_ : 0.0;
+  started_ = true;
+  last_ = t;
+  return step < 0.0 || step > kMaxInterval ? step : 0.0;
+}
+
 ReplayStats run_replay(const ReplayOptions& options, const std::vector<std::string>& columns,
                        const ReplayProcess& process,
                        const std::function<void(const FrameCsvReader& reader)>& on_header) {
@@ -44,6 +54,7 @@ ReplayStats run_replay(const ReplayOptions& options, const std::vector<std::stri
   if (on_header) on_header(reader);
   ReplaySink sink(options, columns);
   std::map<std::string, SequenceTracker> trackers;
+  std::map<std::string, SampleTimeTracker> clocks;
   ReplayStats stats;
   FrameSample sample;
   std::string turbine;
@@ -51,7 +62,9 @@ ReplayStats run_replay(const ReplayOptions& options, const std::vector<std::stri
     ++stats.samples;
     const uint64_t lost = trackers[turbine].lost_before(sample.sequence);
     stats.sequence_gaps += lost;
-    if (!process(turbine, sample, lost > 0, sink)) ++stats.rejected;
+    const double step = clocks[turbine].step(sample.t);
+    if (step != 0.0) ++stats.time_steps;
+    if (!process(turbine, sample, lost > 0 || step != 0.0, sink)) ++stats.rejected;
   }
   stats.estimates = sink.estimates_written();
   stats.events = sink.events_written();

@@ -42,12 +42,13 @@ struct ReplayStats {
   uint64_t samples = 0;
   uint64_t rejected = 0;
   uint64_t sequence_gaps = 0;
+  uint64_t time_steps = 0;  ///< sample time stepped back or jumped forward (SampleTimeTracker)
   uint64_t estimates = 0;
   uint64_t events = 0;
 };
 
 /// Per-sample callback: returns false when the sample was rejected (NaN, out of range); `gap` is true
-/// when samples were lost before this one (the core restarts its history).
+/// when samples were lost before this one or its time stepped (the core restarts its history).
 using ReplayProcess =
     std::function<bool(const std::string& turbine_id, const FrameSample& sample, bool gap, ReplaySink& sink)>;
 
@@ -68,6 +69,20 @@ class SequenceTracker {
  private:
   bool started_ = false;
   uint64_t next_ = 0;
+};
+
+/// A turbine's sample times. A step back, or forward by more than kMaxInterval between consecutive samples,
+/// is a restarted turbine controller or its clock stepped (NTP): the history restarts as after lost samples,
+/// so that no sample-time window or confirmation timer reads the step as time that passed.
+class SampleTimeTracker {
+ public:
+  static constexpr double kMaxInterval = 5.0;  ///< s between consecutive samples (recordings of 1 Hz pass)
+  /// The step from the last sample's time when it is a discontinuity, else 0 (a NaN time is no step).
+  double step(double t);
+
+ private:
+  bool started_ = false;
+  double last_ = 0.0;
 };
 
 }  // namespace windfdi

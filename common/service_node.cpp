@@ -102,14 +102,22 @@ void DiagnosticNode::run(const SampleFn& process) {
       const std::string& id = frames[i].turbine_id();
       frame_meta_ = meta[i];
       auto& tracker = sequence_[id];
+      auto& clock = sample_times_[id];
       for (const auto& s : frames[i].samples()) {
         const uint64_t lost = tracker.lost_before(s.sequence());
         if (lost) {
           health_.count_gap(id, lost);
           spdlog::warn("{}: {} samples lost before sequence {}; restarting history", id, lost, s.sequence());
         }
+        const double step = clock.step(s.t());
+        // A restarted plant also restarts its sequence (counted above); a clock step keeps it.
+        if (step != 0.0 && !lost)
+          spdlog::warn(
+              "{}: sample time stepped by {:+.3f} s at sequence {} (controller clock stepped); restarting "
+              "history",
+              id, step, s.sequence());
         health_.count_in(id);
-        if (!process(id, bus::to_sample(s), lost > 0)) health_.count_rejected(id);
+        if (!process(id, bus::to_sample(s), lost > 0 || step != 0.0)) health_.count_rejected(id);
       }
       health_.set_lag(id, std::max(0.0, now - meta[i].source_time));
     }

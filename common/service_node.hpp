@@ -65,6 +65,7 @@ class DiagnosticNode {
   void take_context();
   LidarFn on_lidar_;
   std::map<std::string, SequenceTracker> sequence_;
+  std::map<std::string, SampleTimeTracker> sample_times_;
   HopTrace trace_;
   // The frame being processed (its write, reception and take times): a report's decisive frame.
   bus::SampleMeta frame_meta_;

@@ -22,7 +22,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--progress", o.progress_period, "seconds between progress lines (0: none)")
       ->capture_default_str();
+  std::vector<std::string> clock_steps;
+  app.add_option("--clock-step", clock_steps,
+                 "AT:SECONDS: from simulated time AT on, the turbine controller's clock (the samples' time "
+                 "stamps) is SECONDS ahead, negative: behind (an NTP step; repeatable, the steps add up)");
   return run_main(app, argc, argv, common, [&] {
+    o.clock_steps = plant::parse_clock_steps(clock_steps);
     // Offline nothing waits for the simulation, so it runs as fast as it can unless told otherwise.
     o.rate = plant::parse_rate(o.offline && rate_option->count() == 0 ? "max" : rate);
     return plant::run_plant(common, o);

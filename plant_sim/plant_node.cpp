@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <memory>
 
@@ -22,6 +23,23 @@
 #include "turbine_sim.hpp"
 
 namespace windfdi::plant {
+
+std::vector<std::pair<double, double>> parse_clock_steps(const std::vector<std::string>& values) {
+  std::vector<std::pair<double, double>> steps;
+  for (const auto& v : values) {
+    const auto colon = v.find(':');
+    char* end = nullptr;
+    const double at = colon == std::string::npos ? kNaN : std::strtod(v.c_str(), &end);
+    const bool at_ok =
+        colon != std::string::npos && end == v.c_str() + colon && std::isfinite(at) && at >= 0.0;
+    const double seconds = at_ok ? std::strtod(v.c_str() + colon + 1, &end) : kNaN;
+    if (!at_ok || colon + 1 == v.size() || *end != '\0' || !std::isfinite(seconds))
+      throw ConfigError("--clock-step", 0, v,
+                        "want AT:SECONDS, e.g. 120:-300 (simulated s, then the step in s)");
+    steps.emplace_back(at, seconds);
+  }
+  return steps;
+}
 
 double parse_rate(const std::string& text) {
   if (text == "realtime") return 1.0;
@@ -195,6 +213,9 @@ int run_plant(const CommonOptions& common, const PlantOptions& o) {
                      r.control.lease(), r.control.stopped() ? ", staying in safe stop" : "");
       FrameSample s = r.sim->step(in);
       if (!o.record_truth) s.aero_torque = s.aero_power = kNaN;  // not measured on a real turbine
+      const double simulated = s.t;
+      for (const auto& [at, seconds] : o.clock_steps)
+        if (simulated >= at) s.t += seconds;
       if (recorder) {
         values.clear();
         if (o.record_truth) {

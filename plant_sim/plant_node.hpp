@@ -3,6 +3,8 @@
 #pragma once
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "app.hpp"
 #include "scenario.hpp"
@@ -19,7 +21,13 @@ struct PlantOptions {
   double duration = -1.0;        ///< s, overrides the scenario's when >= 0
   double config_lease = 5.0;     ///< s (wall) a ControlConfiguration stays valid without a refresh
   double progress_period = 5.0;  ///< s (wall) between progress lines (0: none)
+  /// (simulated time, s): from then on the samples' time stamps are that much later (the controller's clock
+  /// stepped; a test of every service's sample-time windows and timers).
+  std::vector<std::pair<double, double>> clock_steps;
 };
+
+/// Parses --clock-step values "AT:SECONDS"; throws ConfigError naming a malformed one.
+std::vector<std::pair<double, double>> parse_clock_steps(const std::vector<std::string>& values);
 
 /// Parses "realtime", "max" or a factor; throws ConfigError otherwise.
 double parse_rate(const std::string& text);

@@ -58,7 +58,8 @@ bool BladeLoadMonitor::update(const FrameSample& sample, bool gap, std::vector<F
   const double t = s.t;
   if (gap) reset_windows();
   // The LIDAR history is kept through a standstill: resuming with a stale one read as a lost LIDAR.
-  if ((s.valid_mask & kValidLidar)) lidar_.add_lidar(t, s.lidar_v_upper, s.lidar_v_lower);
+  if ((s.valid_mask & kValidLidar) && lidar_.add_lidar(t, s.lidar_v_upper, s.lidar_v_lower))
+    validity_.restart_lidar();
   const bool speed_ok =
       std::isfinite(s.rotor_speed) && (s.valid_mask & kValidRotorSpeed) && s.rotor_speed <= 5.0;
   if (!speed_ok || !std::isfinite(s.azimuth) || !(s.valid_mask & kValidAzimuth) ||

@@ -33,6 +33,12 @@ class InputValidity {
   bool lidar(double t, bool model_ok, std::vector<FaultEvent>& events);
   /// The LIDAR channels are in use (delayed speeds are there, or were lost for less than invalid_time).
   bool lidar_ok() const { return lidar_ok_; }
+  /// The LIDAR history restarted (the sample time stepped): its D / V without delayed speeds is a start, not
+  /// a loss. A raised loss stays raised until the LIDAR serves again.
+  void restart_lidar() {
+    lidar_ok_ = false;
+    lidar_bad_since_ = -1.0;
+  }
 
  private:
   ValidityConfig c_;

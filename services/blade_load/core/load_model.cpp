@@ -152,9 +152,16 @@ void LidarLoadModel::reset() {
   have_adv_ = false;
 }
 
-void LidarLoadModel::add_lidar(double t, double vu, double vl) {
-  if (!std::isfinite(vu) || !std::isfinite(vl) || vu < 0.5 || vl < 0.5 || vu > 60.0 || vl > 60.0) return;
-  if (!history_.empty() && history_.back()[1] == vu && history_.back()[2] == vl) return;  // held value
+bool LidarLoadModel::add_lidar(double t, double vu, double vl) {
+  if (!std::isfinite(vu) || !std::isfinite(vl) || vu < 0.5 || vl < 0.5 || vu > 60.0 || vl > 60.0)
+    return false;
+  // Sample time that went back (a restarted plant) or jumped (a stepped clock): the delayed speeds looked up
+  // from now on are not in this history (a restarted plant raised "no delayed LIDAR speeds" on every
+  // turbine).
+  const bool restart =
+      !history_.empty() && (t < history_.back()[0] || t > history_.back()[0] + kLidarHistoryMaxStep);
+  if (restart) reset();
+  if (!history_.empty() && history_.back()[1] == vu && history_.back()[2] == vl) return false;  // held value
   history_.push_back({t, vu, vl});
   // Advection speed V: the slowly filtered hub speed (frozen turbulence moves with the mean flow).
   const double v = 0.5 * (vu + vl);
@@ -172,6 +179,7 @@ void LidarLoadModel::add_lidar(double t, double vu, double vl) {
   }
   t_adv_ = t;
   while (history_.size() > 2 && history_.front()[0] < t - c_.max_delay) history_.pop_front();
+  return restart;
 }
 
 bool LidarLoadModel::moments(double t, double rotor_speed, double azimuth, const std::array<double, 3>& pitch,

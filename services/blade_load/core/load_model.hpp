@@ -64,8 +64,11 @@ class LidarLoadModel {
  public:
   LidarLoadModel(const LoadModelConfig& c, const LoadTable* table);
 
-  /// Stores a LIDAR measurement (NaN or out of range: ignored).
-  void add_lidar(double t, double v_upper, double v_lower);
+  /// Stores a LIDAR measurement (NaN or out of range: ignored). A time before the newest stored one, or
+  /// kLidarHistoryMaxStep after it, restarts the history: then it returns true.
+  bool add_lidar(double t, double v_upper, double v_lower);
+  /// s: a jump of the sample time this long is a stepped clock, not a LIDAR that held its value.
+  static constexpr double kLidarHistoryMaxStep = 60.0;
   /// Expected flapwise moments of the three blades at time t (false: no delayed LIDAR value).
   bool moments(double t, double rotor_speed, double azimuth, const std::array<double, 3>& pitch,
                std::array<double, 3>& m);

@@ -478,6 +478,29 @@ TEST(LidarLoss, FallsBackToSensorOnlyAndReportsTheLidar) {
   EXPECT_LE(e->t - 200.0, 100.0 / 12.0 + 1.0 + 1.0 + 0.5);
 }
 
+TEST(LidarLoss, ARestartedPlantOrAClockStepIsNoLidarLoss) {
+  // GIVEN a monitor that followed the plant for 300 s, WHEN the plant restarts (its sample time from 0
+  // again, flagged as a gap, as the services do when the sequence restarts) or its clock steps 5 minutes
+  // forward: the reliability campaign's restarted plant raised "no delayed LIDAR speeds" on every turbine
+  for (const double step : {-300.0, 300.0}) {
+    plant::TurbineScenario t;
+    t.id = "WT01";
+    t.wind.mean = 12.0;
+    t.wind.turbulence_intensity = 0.1;
+    plant::TurbineSim sim(TurbineParams{}, t, {}, 5, 100.0);
+    BladeLoadMonitor m(config(), LoadTable::load_csv(kTable));
+    std::vector<FaultEvent> events;
+    for (int k = 0; k < 600 * 100; ++k) {
+      FrameSample s = sim.step();
+      if (k >= 300 * 100) s.t += step;
+      m.update(s, k == 300 * 100, events);
+    }
+    // THEN nothing is raised
+    EXPECT_TRUE(events.empty()) << step << ": " << events.front().component << " " << events.front().fault
+                                << " at " << events.front().t;
+  }
+}
+
 TEST(Persistence, StateRoundTripsAtomically) {
   // GIVEN a state with a learned correction and statistics
   const auto dir = std::filesystem::temp_directory_path() / "windfdi_bl_test";

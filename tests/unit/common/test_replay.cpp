@@ -20,6 +20,18 @@ TEST(SequenceTracker, ReportsLostSamplesAndRestarts) {
   EXPECT_EQ(s.lost_before(3), 0u);
 }
 
+TEST(SampleTimeTracker, AStepBackOrAJumpOfMinutesIsADiscontinuityTheSampleRateIsNot) {
+  SampleTimeTracker c;
+  EXPECT_EQ(c.step(100.0), 0.0);  // first sample
+  EXPECT_EQ(c.step(100.01), 0.0);
+  EXPECT_EQ(c.step(101.01), 0.0);            // a 1 Hz recording
+  EXPECT_EQ(c.step(106.01), 0.0);            // a gap within kMaxInterval
+  EXPECT_NEAR(c.step(406.01), 300.0, 1e-9);  // the controller's clock stepped 5 minutes forward (NTP)
+  EXPECT_NEAR(c.step(6.0), -400.01, 1e-9);   // back: a restarted controller
+  EXPECT_EQ(c.step(std::nan("")), 0.0);      // a NaN time is the core's to reject, no step
+  EXPECT_EQ(c.step(6.01), 0.0);
+}
+
 TEST(Replay, DrivesEachTurbineInOrderAndWritesTheContractFiles) {
   // GIVEN a recording of two turbines where WT02 lost samples 3 and 4, and WT01 has a NaN pitch
   const std::string dir = test::temp_dir("replay");
