@@ -142,6 +142,10 @@ void ArbiterNode::handle_inputs(double wall) {
 }
 
 void ArbiterNode::publish_configurations(double wall) {
+  // A (re)started arbiter decides once the services' transient-local reports are in: a restarted primary
+  // published "no fault" for 5 ms before the replayed pump wear (the reliability campaign), and took the
+  // turbine from the standby that knew it.
+  if (wall - started_at_ < kStartupHold) return;
   // Every turbine is decided on every full pass (held decisions, republishing); between them only the
   // turbines an input came for. Deciding on every turbine for every input, and waking for every health
   // sample and estimate, cost a quarter of the arbiter's CPU at 480 turbines.
@@ -158,7 +162,7 @@ void ArbiterNode::publish_configurations(double wall) {
     traced.swap(t.traced_reports);
     const bool changed = c != t.last || t.revision == 0;
     if (!changed && wall - t.last_published < options_.republish_period) continue;
-    if (changed) ++t.revision;
+    if (changed) t.revision = t.revision == 0 ? revision_base_ : t.revision + 1;
     t.last = c;
     t.last_published = wall;
     // Written before anything is logged: the plant waits for it, nobody waits for the log.
@@ -196,6 +200,7 @@ void ArbiterNode::run() {
     std::lock_guard<std::mutex> lock(step_mutex_);
     for (const auto& id : served_.ids()) turbine(id);
     health_.set_state(windfdi::SERVICE_OK);
+    started_at_ = wall_time();
     running_ = true;
   }
   spdlog::info("arbiter '{}' running with ownership strength {}", options_.arbiter_id, options_.strength);

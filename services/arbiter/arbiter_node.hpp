@@ -53,6 +53,12 @@ class ArbiterNode {
   static constexpr double kFullPassPeriod =
       0.095;  ///< s between decisions on every turbine (the loop waits 0.1)
   double last_full_pass_ = -1e300;
+  static constexpr double kStartupHold = 1.0;  ///< s after start before the first configuration
+  double started_at_ = 1e300;                  ///< wall time run() began
+  /// The first revision of every turbine: the start time in ms since the Unix epoch, so that a restarted
+  /// arbiter's revisions continue above the ones it published before (from 1 again, the farm store took
+  /// them for ones it had stored, keyed by turbine, arbiter and revision, and dropped them).
+  const uint64_t revision_base_ = static_cast<uint64_t>(wall_time() * 1000.0);
   Turbine& turbine(const std::string& id);
   bool serves(const std::string& id) const;
   void handle_inputs(double now);
