@@ -56,10 +56,16 @@ bool BladeLoadMonitor::update(const FrameSample& sample, bool gap, std::vector<F
   FrameSample twin;
   const FrameSample& s = suspects_.speed_twin(sample, twin) ? twin : sample;
   const double t = s.t;
-  if (gap) reset_windows();
+  // Lost samples leave a hole in the LIDAR history as long as the gap: a frozen service or plant raised
+  // lidar sensor_invalid on every turbine when it resumed (the reliability campaign).
+  const double lidar_grace = lidar_.delay() + cfg_.model.max_lidar_age;
+  if (gap) {
+    reset_windows();
+    validity_.restart_lidar(t, lidar_grace);
+  }
   // The LIDAR history is kept through a standstill: resuming with a stale one read as a lost LIDAR.
   if ((s.valid_mask & kValidLidar) && lidar_.add_lidar(t, s.lidar_v_upper, s.lidar_v_lower))
-    validity_.restart_lidar();
+    validity_.restart_lidar(t, lidar_grace);
   const bool speed_ok =
       std::isfinite(s.rotor_speed) && (s.valid_mask & kValidRotorSpeed) && s.rotor_speed <= 5.0;
   if (!speed_ok || !std::isfinite(s.azimuth) || !(s.valid_mask & kValidAzimuth) ||

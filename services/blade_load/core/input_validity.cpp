@@ -74,6 +74,7 @@ bool InputValidity::lidar(double t, bool model_ok, std::vector<FaultEvent>& even
     lidar_ok_ = true;
     return false;
   }
+  if (t < lidar_grace_until_) return false;
   if (lidar_bad_since_ < 0) lidar_bad_since_ = t;
   if (!(t - lidar_bad_since_ >= c_.invalid_time && lidar_ok_)) return false;
   // Fall back to sensor-only (cross-blade) monitoring until the LIDAR is back.

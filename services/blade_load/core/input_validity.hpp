@@ -33,11 +33,12 @@ class InputValidity {
   bool lidar(double t, bool model_ok, std::vector<FaultEvent>& events);
   /// The LIDAR channels are in use (delayed speeds are there, or were lost for less than invalid_time).
   bool lidar_ok() const { return lidar_ok_; }
-  /// The LIDAR history restarted (the sample time stepped): its D / V without delayed speeds is a start, not
-  /// a loss. A raised loss stays raised until the LIDAR serves again.
-  void restart_lidar() {
-    lidar_ok_ = false;
+  /// The LIDAR history restarted (the sample time stepped) or has a hole (samples lost): for `grace` s of
+  /// sample time from `t` (its D / V and the allowed age) no delayed speed can be found, which is no loss. A
+  /// LIDAR still silent after that is one; a raised loss stays raised until the LIDAR serves again.
+  void restart_lidar(double t, double grace) {
     lidar_bad_since_ = -1.0;
+    lidar_grace_until_ = t + grace;
   }
 
  private:
@@ -47,6 +48,7 @@ class InputValidity {
   double last_pitch_mean_ = 0.0;
   bool lidar_ok_ = false;
   double lidar_bad_since_ = -1.0;
+  double lidar_grace_until_ = -1e300;
   bool lidar_raised_ = false;
 };
 

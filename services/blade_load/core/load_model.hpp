@@ -79,6 +79,8 @@ class LidarLoadModel {
   double v_hub() const { return v_hub_; }
   double lambda() const { return lambda_; }
   double advection_speed() const { return v_adv_; }
+  /// s, D / V: how long after a restart of the history (or a hole in it) no delayed speed can be found.
+  double delay() const { return have_adv_ ? c_.lidar_distance / std::max(v_adv_, 1.0) : c_.max_delay; }
   /// Time of the newest stored LIDAR measurement (-inf: none).
   double last_lidar_time() const { return history_.empty() ? -1e300 : history_.back()[0]; }
 

@@ -478,11 +478,13 @@ TEST(LidarLoss, FallsBackToSensorOnlyAndReportsTheLidar) {
   EXPECT_LE(e->t - 200.0, 100.0 / 12.0 + 1.0 + 1.0 + 0.5);
 }
 
-TEST(LidarLoss, ARestartedPlantOrAClockStepIsNoLidarLoss) {
+TEST(LidarLoss, ARestartedPlantAClockStepOrLostSamplesAreNoLidarLoss) {
   // GIVEN a monitor that followed the plant for 300 s, WHEN the plant restarts (its sample time from 0
-  // again, flagged as a gap, as the services do when the sequence restarts) or its clock steps 5 minutes
-  // forward: the reliability campaign's restarted plant raised "no delayed LIDAR speeds" on every turbine
-  for (const double step : {-300.0, 300.0}) {
+  // again, flagged as a gap, as the services do when the sequence restarts), its clock steps 5 minutes
+  // forward, or 10 s of samples are lost (a frozen service or plant): the reliability campaign's restarted
+  // or frozen plant, and a frozen blade_load, raised "no delayed LIDAR speeds" on every turbine
+  for (const char* what : {"restart", "clock step", "lost samples"}) {
+    const std::string w = what;
     plant::TurbineScenario t;
     t.id = "WT01";
     t.wind.mean = 12.0;
@@ -492,13 +494,33 @@ TEST(LidarLoss, ARestartedPlantOrAClockStepIsNoLidarLoss) {
     std::vector<FaultEvent> events;
     for (int k = 0; k < 600 * 100; ++k) {
       FrameSample s = sim.step();
-      if (k >= 300 * 100) s.t += step;
-      m.update(s, k == 300 * 100, events);
+      if (w == "restart" && k >= 300 * 100) s.t -= 300.0;
+      if (w == "clock step" && k >= 300 * 100) s.t += 300.0;
+      if (w == "lost samples" && k >= 300 * 100 && k < 310 * 100) continue;
+      m.update(s, k == (w == "lost samples" ? 310 : 300) * 100, events);
     }
     // THEN nothing is raised
-    EXPECT_TRUE(events.empty()) << step << ": " << events.front().component << " " << events.front().fault
+    EXPECT_TRUE(events.empty()) << what << ": " << events.front().component << " " << events.front().fault
                                 << " at " << events.front().t;
   }
+  // AND a LIDAR that stays silent after lost samples is still reported, once its D / V has passed
+  plant::TurbineScenario t;
+  t.id = "WT01";
+  t.wind.mean = 12.0;
+  t.wind.turbulence_intensity = 0.1;
+  plant::TurbineSim sim(TurbineParams{}, t, {}, 5, 100.0);
+  BladeLoadMonitor m(config(), LoadTable::load_csv(kTable));
+  std::vector<FaultEvent> events;
+  for (int k = 0; k < 360 * 100; ++k) {
+    FrameSample s = sim.step();
+    if (k >= 300 * 100 && k < 310 * 100) continue;
+    if (k >= 300 * 100) s.lidar_v_upper = s.lidar_v_lower = kNaN;
+    m.update(s, k == 310 * 100, events);
+  }
+  const FaultEvent* e = first_raised(events, "lidar", 310.0);
+  ASSERT_NE(e, nullptr);
+  EXPECT_EQ(e->fault, "sensor_invalid");
+  EXPECT_LE(e->t - 310.0, 100.0 / 12.0 + 1.0 + 1.0 + 1.0);
 }
 
 TEST(Persistence, StateRoundTripsAtomically) {
