@@ -1,0 +1,399 @@
+#!/usr/bin/env python3
+"""The reliability campaign's process cases: a small farm runs with injected faults while every process is
+killed (SIGKILL) and restarted in turn, or frozen (SIGSTOP for 10 s, then SIGCONT), and the farm store and the
+processes' own logs are judged.
+
+  reliability.py processes [--only NAME,...] [--cases kill,freeze] [--rate R] [--turbines N] [--work DIR]
+                           [--json FILE] [--require]
+
+For each process and case: how long until the farm store shows it lost and back (the primary arbiter: until the
+plant follows the standby, and the primary again; the standby and the farm monitor show nothing while the other
+runs); whether the faults raised
+before stayed raised in the store after; whether a report the services logged never reached the store; whether
+the plant applied a configuration revision out of order; whether the restart itself caused an action (a fault
+raised that was not raised before, a class changed, a safe stop, a derate no fault warrants). Exit 1 with
+--require when any of these fails (CI runs a subset that way), 2 on bad arguments.
+
+Processes: plant, the five diagnostic services, arbiter (primary, strength 100), standby (strength 10), farm.
+Everything runs as real DDS participants on a private domain (loopback discovery), the plant in closed loop at
+--rate times real time (default 4); logs and the store go to --work (default a temporary directory).
+"""
+import argparse
+import json
+import os
+import re
+import shutil
+import signal
+import sqlite3
+import subprocess
+import sys
+import tempfile
+import time
+
+TOP = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+BUILD = os.environ.get("WINDFDI_BUILD_DIR", os.path.join(TOP, "build"))
+BIN = os.path.join(BUILD, "bin")
+SERVICES = ["blade_load", "sensor_bias", "pitch_diag", "ice_detect", "drive_train"]
+PROCESSES = ["plant"] + SERVICES + ["arbiter", "standby", "farm"]
+FREEZE_SECONDS = 10.0
+# The wt/health liveliness lease is 3 s (deploy/qos/windfdi_qos.xml): a death is shown within it plus one
+# farm loop pass; a restarted service names its turbines at its first health tick.
+LOST_TIMEOUT = 15.0
+BACK_TIMEOUT = 30.0
+
+# The injected faults, active from 5 s of simulated time so that a restarted plant (whose simulation starts
+# again at 0) meets them as the running one did. Each raises a warning (no stop): the campaign judges what the
+# restarts do, and a healthy third turbine shows whether they raise anything by themselves.
+FAULTS = [
+    {"turbine": "WT01", "target": "pitch_actuator_1", "type": "pump_wear", "start": 5},
+    {"turbine": "WT02", "target": "pitch_2", "type": "bias", "value": 1.0, "start": 5},
+]
+EXPECTED = {("WT01", "pitch_actuator_1", "pump_wear"), ("WT02", "pitch_sensor_2", "sensor_bias")}
+WINDS = [16.0, 15.0, 17.0, 14.0, 18.0]
+
+# Log lines (spdlog: "DATE TIME EXECUTABLE LEVEL: MESSAGE") of a published FaultReport and an applied configuration.
+PUBLISHED = re.compile(r" (?:info|warning): (\S+) (\S+) (\S+) (RAISED|cleared) \((\w+), statistic")
+APPLIED = re.compile(r" info: (\S+): applying configuration r(\d+) from (\S+): mode (\d+)")
+
+
+def scenario_yaml(turbines, duration):
+    lines = ["# The reliability campaign's farm (tests/reliability/reliability.py writes it).",
+             f"duration: {duration}", "seed: 11", "turbines:"]
+    for i in range(turbines):
+        lines.append(f"  - {{id: WT{i + 1:02d}, wind: {{mean: {WINDS[i % len(WINDS)]}, turbulence_intensity: 0.1}}}}")
+    lines.append("faults:")
+    for f in FAULTS:
+        lines.append("  - {" + ", ".join(f"{k}: {v}" for k, v in f.items()) + "}")
+    return "\n".join(lines) + "\n"
+
+
+class Farm:
+    """The processes of a small farm, each restartable; every log of every incarnation is kept."""
+
+    def __init__(self, work, rate, turbines):
+        self.work, self.rate = work, rate
+        self.logs = os.path.join(work, "logs")
+        os.makedirs(self.logs, exist_ok=True)
+        self.db = os.path.join(work, "farm.sqlite")
+        self.scenario = os.path.join(work, "scenario.yaml")
+        with open(self.scenario, "w") as f:
+            f.write(scenario_yaml(turbines, 100000))
+        self.env = dict(os.environ)
+        self.env["WINDFDI_DOMAIN"] = str(int(os.environ.get("WINDFDI_DOMAIN", 150 + os.getpid() % 50)))
+        self.env["WINDFDI_PARTICIPANT_PROFILE"] = "windfdi_participant_loopback"
+        for var in ("FASTRTPS_DEFAULT_PROFILES_FILE", "FASTDDS_DEFAULT_PROFILES_FILE", "ROS_DISCOVERY_SERVER"):
+            self.env.pop(var, None)
+        self.procs, self.incarnations = {}, {}
+
+    def argv(self, name):
+        if name in SERVICES:
+            exe = os.path.join(BIN, "windfdi-" + name.replace("_", "-"))
+            cfg = os.path.join(TOP, "deploy", "config", name + ".yaml")
+            return [exe] + (["--config", cfg] if os.path.exists(cfg) else [])
+        arbiter_cfg = os.path.join(TOP, "deploy", "config", "arbiter.yaml")
+        if name == "arbiter":
+            return [os.path.join(BIN, "windfdi-arbiter"), "--config", arbiter_cfg, "--arbiter-id", "primary",
+                    "--strength", "100"]
+        if name == "standby":
+            return [os.path.join(BIN, "windfdi-arbiter"), "--config", arbiter_cfg, "--arbiter-id", "standby",
+                    "--strength", "10"]
+        if name == "farm":
+            return [os.path.join(BIN, "windfdi-farm"), "--db", self.db, "--table-period", "0"]
+        if name == "plant":
+            return [os.path.join(BIN, "windfdi-plant"), "--scenario", self.scenario, "--rate", str(self.rate),
+                    "--progress", "0"]
+        raise ValueError(name)
+
+    def log_paths(self, name):
+        return [os.path.join(self.logs, f"{name}.{k}.log") for k in range(self.incarnations.get(name, 0))]
+
+    def start(self, name):
+        k = self.incarnations.get(name, 0)
+        self.incarnations[name] = k + 1
+        log = open(os.path.join(self.logs, f"{name}.{k}.log"), "w")
+        self.procs[name] = subprocess.Popen(self.argv(name), env=self.env, stdout=log, stderr=subprocess.STDOUT)
+        log.close()
+
+    def signal(self, name, sig):
+        self.procs[name].send_signal(sig)
+        if sig == signal.SIGKILL:
+            self.procs[name].wait()
+
+    def exited(self):
+        return [n for n, p in self.procs.items() if p.poll() is not None]
+
+    def stop_all(self):
+        for p in self.procs.values():
+            if p.poll() is None:
+                p.send_signal(signal.SIGCONT)
+                p.terminate()
+        deadline = time.time() + 10
+        for p in self.procs.values():
+            try:
+                p.wait(max(0.1, deadline - time.time()))
+            except subprocess.TimeoutExpired:
+                p.kill()
+                p.wait()
+        self.remove_shared_memory()
+
+    def remove_shared_memory(self):
+        """The shared-memory files the killed processes left: the segments whose owner is gone (`fastdds shm
+        clean`) and this domain's port files, which it misses (docs/fastdds.md)."""
+        if shutil.which("fastdds"):
+            subprocess.run(["fastdds", "shm", "clean"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        domain = int(self.env["WINDFDI_DOMAIN"])
+        for offset in range(250):
+            port = 7400 + 250 * domain + offset
+            for name in (f"fastrtps_port{port}", f"fastrtps_port{port}_el", f"sem.fastrtps_port{port}_mutex"):
+                try:
+                    os.remove(os.path.join("/dev/shm", name))
+                except OSError:
+                    pass
+
+    def query(self, sql, args=()):
+        """Rows of the farm store (read-only, beside the running farm monitor: the store is in WAL mode)."""
+        if not os.path.exists(self.db):
+            return []
+        for _ in range(20):
+            try:
+                con = sqlite3.connect(f"file:{self.db}?mode=ro", uri=True, timeout=5)
+                try:
+                    return con.execute(sql, args).fetchall()
+                finally:
+                    con.close()
+            except sqlite3.OperationalError:
+                time.sleep(0.2)
+        return []
+
+
+def active_faults(farm, before=None):
+    """(turbine, component, fault) raised and not cleared in the store, from the rows received before `before`."""
+    rows = farm.query("SELECT turbine_id, component, fault, state FROM fault_events"
+                      + (" WHERE received_at < ?" if before else "") + " ORDER BY id", (before,) if before else ())
+    active = set()
+    for turbine, component, fault, state in rows:
+        (active.add if state == "raised" else active.discard)((turbine, component, fault))
+    return active
+
+
+def health_after(farm, service, since, lost):
+    rows = farm.query("SELECT received_at FROM health_events WHERE service = ? AND received_at > ? AND "
+                      + ("event = 'lost'" if lost else "event != 'lost'") + " ORDER BY id LIMIT 1",
+                      (service, since))
+    return rows[0][0] if rows else None
+
+
+def wait_for(pred, timeout, poll=0.2):
+    end = time.time() + timeout
+    while time.time() < end:
+        value = pred()
+        if value:
+            return value
+        time.sleep(poll)
+    return pred()
+
+
+def published_by_services(farm):
+    """Every FaultReport the services logged as published: (source, turbine, component, fault, state)."""
+    events = []
+    for service in SERVICES:
+        for path in farm.log_paths(service):
+            with open(path, errors="replace") as f:
+                for line in f:
+                    m = PUBLISHED.search(line)
+                    if m:
+                        events.append((service, m[1], m[2], m[3], "raised" if m[4] == "RAISED" else "cleared"))
+    return events
+
+
+def configurations_out_of_order(farm):
+    """Revisions the plant applied that went back from one arbiter's revision it had applied before."""
+    bad = []
+    for path in farm.log_paths("plant"):
+        last = {}
+        with open(path, errors="replace") as f:
+            for line in f:
+                m = APPLIED.search(line)
+                if not m:
+                    continue
+                key, revision = (m[1], m[3]), int(m[2])
+                if key in last and revision < last[key]:
+                    bad.append(f"{m[1]} r{revision} from {m[3]} after r{last[key]}")
+                last[key] = revision
+    return bad
+
+
+def plant_applied_from(farm, arbiter_id, since):
+    """Wall time of the first configuration the plant applied from `arbiter_id` after `since` (its log)."""
+    for path in farm.log_paths("plant"):
+        with open(path, errors="replace") as f:
+            for line in f:
+                m = APPLIED.search(line)
+                if not m or m[3] != arbiter_id:
+                    continue
+                at = time.mktime(time.strptime(line[:19], "%Y-%m-%d %H:%M:%S")) + float(line[19:23])
+                if at > since:
+                    return at
+    return None
+
+
+def run_case(farm, name, case, settle):
+    """One process killed and restarted, or frozen and thawed; returns the row of the report."""
+    health_name = {"standby": "arbiter"}.get(name, name)
+    before = active_faults(farm)
+    t0 = time.time()
+    if case == "kill":
+        farm.signal(name, signal.SIGKILL)
+    else:
+        farm.signal(name, signal.SIGSTOP)
+    lost_at = None
+    if name == "arbiter":
+        # The standby speaks for "arbiter" on wt/health: the loss shows as the plant following the standby.
+        lost_at = wait_for(lambda: plant_applied_from(farm, "standby", t0), LOST_TIMEOUT if case == "kill"
+                           else FREEZE_SECONDS)
+    elif name not in ("farm", "standby"):
+        lost_at = wait_for(lambda: health_after(farm, health_name, t0, True), LOST_TIMEOUT if case == "kill"
+                           else FREEZE_SECONDS)
+    if case == "kill":
+        time.sleep(max(0.0, 2.0 - (time.time() - t0)))
+        farm.start(name)
+    else:
+        time.sleep(max(0.0, FREEZE_SECONDS - (time.time() - t0)))
+        farm.signal(name, signal.SIGCONT)
+    t1 = time.time()
+    back_at = None
+    if name == "farm":
+        # The farm monitor is back when its restarted incarnation stores again (its own health is not on DDS).
+        back_at = wait_for(lambda: (farm.query("SELECT max(received_at) FROM health_events")[0][0] or 0) > t1
+                           and time.time(), BACK_TIMEOUT)
+    elif name == "arbiter" and lost_at:
+        back_at = wait_for(lambda: plant_applied_from(farm, "primary", t1), BACK_TIMEOUT)
+    elif lost_at:
+        back_at = wait_for(lambda: health_after(farm, health_name, lost_at, False), BACK_TIMEOUT)
+    time.sleep(settle)
+    after = active_faults(farm)
+    # What the store received from the kill on: raises of faults that were not raised before, safe stops.
+    new_raises = sorted({f"{t} {c} {f} ({s})" for t, c, f, s in farm.query(
+        "SELECT turbine_id, component, fault, source FROM fault_events WHERE state = 'raised' AND received_at > ?",
+        (t0,)) if (t, c, f) not in before})
+    stops = farm.query("SELECT DISTINCT turbine_id FROM configurations WHERE mode = 'safe_stop' AND received_at > ?",
+                       (t0,))
+    return {
+        "process": name, "case": case,
+        "lost_after_s": round(lost_at - t0, 2) if lost_at else None,
+        "back_after_s": round(back_at - t1, 2) if back_at else None,
+        "faults_before": sorted(" ".join(k) for k in before),
+        "faults_kept": sorted(before) == sorted(after & before) and before <= after,
+        "faults_after": sorted(" ".join(k) for k in after),
+        "new_raises": new_raises,
+        "safe_stops": sorted(s[0] for s in stops),
+    }
+
+
+def check_row(row):
+    problems = []
+    shown = row["process"] in ("farm", "standby") or row["lost_after_s"] is not None
+    if not shown:
+        problems.append("never shown lost")
+    if row["process"] != "farm" and row["lost_after_s"] is not None and row["back_after_s"] is None:
+        problems.append("never shown back")
+    if row["process"] == "farm" and row["back_after_s"] is None:
+        problems.append("the restarted farm monitor stored nothing")
+    if not row["faults_kept"]:
+        problems.append("faults before: " + ", ".join(row["faults_before"]) + "; after: "
+                        + ", ".join(row["faults_after"]))
+    if row["new_raises"]:
+        problems.append("raised by the restart: " + ", ".join(row["new_raises"]))
+    if row["safe_stops"]:
+        problems.append("safe stop of " + ", ".join(row["safe_stops"]))
+    return problems
+
+
+def fmt(v):
+    return "-" if v is None else f"{v:.1f}"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = ap.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("processes", help="kill and freeze every process in turn")
+    p.add_argument("--only", default=",".join(PROCESSES), help="processes to kill or freeze, in this order")
+    p.add_argument("--cases", default="kill,freeze", help="kill, freeze or both")
+    p.add_argument("--rate", type=float, default=4.0, help="plant speed-up (default 4)")
+    p.add_argument("--turbines", type=int, default=3, help="turbines of the farm (3..10)")
+    p.add_argument("--warmup", type=float, default=60.0, help="wall seconds before the first case")
+    p.add_argument("--settle", type=float, default=15.0, help="wall seconds judged after each recovery")
+    p.add_argument("--work", help="directory for logs and the store (default: a new temporary one)")
+    p.add_argument("--json", help="also write the rows as JSON here")
+    p.add_argument("--require", action="store_true", help="exit 1 when any row fails")
+    a = ap.parse_args()
+    only = [n for n in a.only.split(",") if n]
+    cases = [c for c in a.cases.split(",") if c]
+    bad = [n for n in only if n not in PROCESSES] + [c for c in cases if c not in ("kill", "freeze")]
+    if bad or not 3 <= a.turbines <= 10 or a.rate <= 0:
+        print(f"reliability: bad --only/--cases/--turbines/--rate: {bad or (a.turbines, a.rate)}; processes are "
+              + ", ".join(PROCESSES), file=sys.stderr)
+        return 2
+    work = a.work or tempfile.mkdtemp(prefix="windfdi_reliability_")
+    os.makedirs(work, exist_ok=True)
+    farm = Farm(work, a.rate, a.turbines)
+    for n in PROCESSES:
+        if not os.access(farm.argv(n)[0], os.X_OK):
+            print(f"reliability: {farm.argv(n)[0]} not built (deploy/scripts/setup.sh)", file=sys.stderr)
+            return 2
+    rows, problems = [], {}
+    # A SIGTERM (ctest's timeout, a Ctrl-C'd script) stops the farm like the end of the run does.
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(1))
+    try:
+        for n in ["farm"] + SERVICES + ["arbiter", "standby"]:
+            farm.start(n)
+        time.sleep(3)  # the services and arbiters discover each other before the first frame
+        farm.start("plant")
+        print(f"reliability: domain {farm.env['WINDFDI_DOMAIN']}, {a.turbines} turbines at {a.rate}x, work {work}",
+              flush=True)
+        # The injected faults raised and settled before the first case.
+        ok = wait_for(lambda: EXPECTED <= active_faults(farm), a.warmup + 120)
+        time.sleep(a.warmup)
+        if not ok:
+            print("reliability: the injected faults were not raised: " + ", ".join(
+                " ".join(k) for k in active_faults(farm)), file=sys.stderr)
+        for name in only:
+            for case in cases:
+                dead = farm.exited()
+                if dead:
+                    print("reliability: exited on their own: " + ", ".join(dead), file=sys.stderr)
+                row = run_case(farm, name, case, a.settle)
+                rows.append(row)
+                problems[(name, case)] = check_row(row)
+                print(f"  {name:12s} {case:6s} lost {fmt(row['lost_after_s'])} s, back {fmt(row['back_after_s'])} s"
+                      + ("" if not problems[(name, case)] else ": " + "; ".join(problems[(name, case)])),
+                      flush=True)
+    finally:
+        farm.stop_all()
+    # Every report a service logged as published is in the store (source, turbine, component, fault, state);
+    # duplicates are kept apart only by their sample time, which the log does not give, so this counts kinds.
+    stored = {tuple(r) for r in farm.query(
+        "SELECT source, turbine_id, component, fault, state FROM fault_events")}
+    missing = sorted({" ".join(e) for e in published_by_services(farm) if e not in stored})
+    out_of_order = configurations_out_of_order(farm)
+    print()
+    print("| process | case | shown lost after s | shown back after s | faults kept | raised by it | safe stops |")
+    print("|---|---|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r['process']} | {r['case']} | {fmt(r['lost_after_s'])} | {fmt(r['back_after_s'])} | "
+              f"{'yes' if r['faults_kept'] else 'NO'} | {', '.join(r['new_raises']) or 'none'} | "
+              f"{', '.join(r['safe_stops']) or 'none'} |")
+    print()
+    print(f"reports the services logged that the store lacks: {len(missing)}" + "".join("\n  " + m for m in missing))
+    print(f"configurations the plant applied out of order: {len(out_of_order)}"
+          + "".join("\n  " + m for m in out_of_order))
+    print(f"work: {work}")
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump({"rows": rows, "missing_reports": missing, "out_of_order": out_of_order}, f, indent=1)
+    failed = any(problems.values()) or missing or out_of_order
+    return 1 if a.require and failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
