@@ -81,7 +81,8 @@ class Farm:
         self.env = dict(os.environ)
         self.env["WINDFDI_DOMAIN"] = str(int(os.environ.get("WINDFDI_DOMAIN", 150 + os.getpid() % 50)))
         self.env["WINDFDI_PARTICIPANT_PROFILE"] = "windfdi_participant_loopback"
-        for var in ("FASTRTPS_DEFAULT_PROFILES_FILE", "FASTDDS_DEFAULT_PROFILES_FILE", "ROS_DISCOVERY_SERVER"):
+        for var in ("FASTRTPS_DEFAULT_PROFILES_FILE", "FASTDDS_DEFAULT_PROFILES_FILE", "ROS_DISCOVERY_SERVER",
+                    "FASTDDS_ENVIRONMENT_FILE", "WINDFDI_QOS_FILE"):
             self.env.pop(var, None)
         self.procs, self.incarnations = {}, {}
 
