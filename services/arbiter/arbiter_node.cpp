@@ -6,7 +6,6 @@
 #include <algorithm>
 
 #include "dds/convert.hpp"
-#include "names.hpp"
 #include "turbine_selection.hpp"
 
 namespace windfdi::arbiter {
@@ -104,15 +103,7 @@ void ArbiterNode::handle_inputs(double wall) {
   }
 
   for (const auto& c : liveliness_.poll(health_in_)) {
-    // The plant, other arbiters and farm monitors report health too; only a diagnostic service's loss is
-    // acted on (and logged: "farm_monitor lost" read like a lost diagnostic service).
-    if (std::find(service_names().begin(), service_names().end(), c.service) == service_names().end())
-      continue;
-    if (!c.alive && wall < stalled_until_) {
-      // Every lease lapses at once when this process stood still: confirmed at the end of the grace.
-      losses_to_confirm_ = true;
-      continue;
-    }
+    if (c.service == "arbiter") continue;
     if (!c.alive) spdlog::warn("service {} for turbine {} lost its liveliness", c.service, c.turbine_id);
     // "*": an instance that has not named a turbine yet; it speaks for the turbines no instance named.
     for (auto& [id, t] : turbines_)
@@ -125,18 +116,6 @@ void ArbiterNode::handle_inputs(double wall) {
       t.arbiter.on_service_alive(c.service, true, t.clock.now(wall));
       t.dirty = true;
     }
-  }
-
-  if (losses_to_confirm_ && wall >= stalled_until_) {
-    losses_to_confirm_ = false;
-    for (auto& [id, t] : turbines_)
-      for (const auto& service : service_names())
-        if ((liveliness_.named(id, service) || liveliness_.named("*", service)) &&
-            !liveliness_.alive(id, service)) {
-          spdlog::warn("service {} for turbine {} lost its liveliness", service, id);
-          t.arbiter.on_service_alive(service, false, t.clock.now(wall));
-          t.dirty = true;
-        }
   }
 
   std::vector<windfdi::InertiaEstimate> inertia;
@@ -221,7 +200,7 @@ void ArbiterNode::run() {
     std::lock_guard<std::mutex> lock(step_mutex_);
     for (const auto& id : served_.ids()) turbine(id);
     health_.set_state(windfdi::SERVICE_OK);
-    started_at_ = last_pass_ = wall_time();
+    started_at_ = wall_time();
     running_ = true;
   }
   spdlog::info("arbiter '{}' running with ownership strength {}", options_.arbiter_id, options_.strength);
@@ -229,15 +208,6 @@ void ArbiterNode::run() {
     wakeup_.wait_for(std::chrono::milliseconds(100));
     std::lock_guard<std::mutex> lock(step_mutex_);
     const double now = wall_time();
-    // The loop waits 0.1 s at most: a longer gap is this process frozen (SIGSTOP, a VM paused, swapping).
-    if (now - last_pass_ > kStallGap) {
-      stalled_until_ = now + kStallGrace;
-      spdlog::warn(
-          "arbiter: stood still for {:.1f} s; service losses seen in the next {:.0f} s count only if they "
-          "last",
-          now - last_pass_, kStallGrace);
-    }
-    last_pass_ = now;
     handle_inputs(now);
     publish_configurations(now);
     config_out_.assert_liveliness();

@@ -54,14 +54,7 @@ class ArbiterNode {
       0.095;  ///< s between decisions on every turbine (the loop waits 0.1)
   double last_full_pass_ = -1e300;
   static constexpr double kStartupHold = 1.0;  ///< s after start before the first configuration
-  // A frozen arbiter (SIGSTOP for 10 s in the reliability campaign) saw every service's liveliness lapse when
-  // it thawed and published the lost-service fallback for 8 s. Losses seen within kStallGrace (the 3 s health
-  // lease and a health period) of a stall of the loop are acted on only if they still hold then.
-  static constexpr double kStallGap = 1.0;    ///< s between loop passes that is a stall
-  static constexpr double kStallGrace = 4.0;  ///< s
-  double last_pass_ = 0.0, stalled_until_ = -1e300;
-  bool losses_to_confirm_ = false;
-  double started_at_ = 1e300;  ///< wall time run() began
+  double started_at_ = 1e300;                  ///< wall time run() began
   /// The first revision of every turbine: the start time in ms since the Unix epoch, so that a restarted
   /// arbiter's revisions continue above the ones it published before (from 1 again, the farm store took
   /// them for ones it had stored, keyed by turbine, arbiter and revision, and dropped them).

@@ -81,8 +81,7 @@ class Farm:
         self.env = dict(os.environ)
         self.env["WINDFDI_DOMAIN"] = str(int(os.environ.get("WINDFDI_DOMAIN", 150 + os.getpid() % 50)))
         self.env["WINDFDI_PARTICIPANT_PROFILE"] = "windfdi_participant_loopback"
-        for var in ("FASTRTPS_DEFAULT_PROFILES_FILE", "FASTDDS_DEFAULT_PROFILES_FILE", "ROS_DISCOVERY_SERVER",
-                    "FASTDDS_ENVIRONMENT_FILE", "WINDFDI_QOS_FILE"):
+        for var in ("FASTRTPS_DEFAULT_PROFILES_FILE", "FASTDDS_DEFAULT_PROFILES_FILE", "ROS_DISCOVERY_SERVER"):
             self.env.pop(var, None)
         self.procs, self.incarnations = {}, {}
 
