@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "dds/convert.hpp"
+#include "names.hpp"
 #include "turbine_selection.hpp"
 
 namespace windfdi::arbiter {
@@ -102,9 +103,29 @@ void ArbiterNode::handle_inputs(double wall) {
     }
   }
 
+  // The loop passes every 0.1 s; a gap longer than kStallGap is this process stood still (SIGSTOP, a paused
+  // VM, swapping). Checked here, not in the loop: a FaultReport's listener may run this first after a thaw.
+  if (last_pass_ > 0.0 && wall - last_pass_ > kStallGap) {
+    spdlog::warn(
+        "arbiter: stood still for {:.1f} s; service losses seen in the next {:.0f} s count only if "
+        "they last",
+        wall - last_pass_, kStallGrace);
+    stalled_until_ = wall + kStallGrace;
+    last_pass_ = wall;
+  }
   for (const auto& c : liveliness_.poll(health_in_)) {
     if (c.service == "arbiter") continue;
-    if (!c.alive) spdlog::warn("service {} for turbine {} lost its liveliness", c.service, c.turbine_id);
+    // The plant and farm monitors report health too (the plant's first sample makes its turbines known); a
+    // lost farm monitor is no lost diagnostic service and the decision ignores it, so it is not logged as
+    // one.
+    const bool diagnostic =
+        std::find(service_names().begin(), service_names().end(), c.service) != service_names().end();
+    if (!c.alive && diagnostic && wall < stalled_until_) {
+      losses_to_confirm_ = true;  // decided at the end of the grace, on the liveliness then
+      continue;
+    }
+    if (!c.alive && diagnostic)
+      spdlog::warn("service {} for turbine {} lost its liveliness", c.service, c.turbine_id);
     // "*": an instance that has not named a turbine yet; it speaks for the turbines no instance named.
     for (auto& [id, t] : turbines_)
       if (c.turbine_id == id || (c.turbine_id == "*" && liveliness_.alive(id, c.service) == c.alive)) {
@@ -116,6 +137,18 @@ void ArbiterNode::handle_inputs(double wall) {
       t.arbiter.on_service_alive(c.service, true, t.clock.now(wall));
       t.dirty = true;
     }
+  }
+
+  if (losses_to_confirm_ && wall >= stalled_until_) {
+    losses_to_confirm_ = false;
+    for (auto& [id, t] : turbines_)
+      for (const auto& service : service_names())
+        if ((liveliness_.named(id, service) || liveliness_.named("*", service)) &&
+            !liveliness_.alive(id, service)) {
+          spdlog::warn("service {} for turbine {} lost its liveliness", service, id);
+          t.arbiter.on_service_alive(service, false, t.clock.now(wall));
+          t.dirty = true;
+        }
   }
 
   std::vector<windfdi::InertiaEstimate> inertia;
@@ -200,7 +233,7 @@ void ArbiterNode::run() {
     std::lock_guard<std::mutex> lock(step_mutex_);
     for (const auto& id : served_.ids()) turbine(id);
     health_.set_state(windfdi::SERVICE_OK);
-    started_at_ = wall_time();
+    started_at_ = last_pass_ = wall_time();
     running_ = true;
   }
   spdlog::info("arbiter '{}' running with ownership strength {}", options_.arbiter_id, options_.strength);
@@ -209,6 +242,7 @@ void ArbiterNode::run() {
     std::lock_guard<std::mutex> lock(step_mutex_);
     const double now = wall_time();
     handle_inputs(now);
+    last_pass_ = now;
     publish_configurations(now);
     config_out_.assert_liveliness();
     health_.set_streams_of(faults_, health_in_, inertia_, pitch_, acks_, config_out_);

@@ -55,6 +55,17 @@ class ArbiterNode {
   double last_full_pass_ = -1e300;
   static constexpr double kStartupHold = 1.0;  ///< s after start before the first configuration
   double started_at_ = 1e300;                  ///< wall time run() began
+  // A frozen arbiter (SIGSTOP for 10 s in the reliability campaign) saw every service's liveliness lapse when
+  // it thawed, before the services' next assertions reached it, and published the lost-service fallback for
+  // 8 s. Only a stall longer than the health lease (3 s) less its 1 s assertion period can lapse a lease by
+  // itself; a loss seen within kStallGrace (two assertion periods) after one is acted on only if it still
+  // holds then. The first try took 1 s loop gaps for stalls: a loaded CI machine makes those, and a real loss
+  // was deferred past the 20 s the KilledService test allows.
+  static constexpr double kStallGap = 2.0;    ///< s without a pass of the loop that is a stall
+  static constexpr double kStallGrace = 2.0;  ///< s
+  double last_pass_ = 0.0;                    ///< wall time the loop last ran
+  double stalled_until_ = -1e300;
+  bool losses_to_confirm_ = false;
   /// The first revision of every turbine: the start time in ms since the Unix epoch, so that a restarted
   /// arbiter's revisions continue above the ones it published before (from 1 again, the farm store took
   /// them for ones it had stored, keyed by turbine, arbiter and revision, and dropped them).

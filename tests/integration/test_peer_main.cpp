@@ -267,6 +267,86 @@ int flood(const CommonOptions& common, const std::vector<std::string>& ids, doub
   return 0;
 }
 
+// A hostile peer on an unsecured domain, for `hold` s: frames for `farm` unknown turbine ids
+// (HOSTILE00000...), frames of `turbine` with NaN, infinite and out-of-range samples, FaultReports and health
+// for unknown turbines, components and services, and strings of `huge` bytes in every IDL string field it
+// writes.
+int hostile(const CommonOptions& common, const std::string& turbine, int farm, std::size_t huge,
+            double hold) {
+  bus::Participant participant(participant_options(common, "windfdi-test-peer-hostile"));
+  bus::Writer<windfdi::TurbineFrame> frames(participant);
+  bus::Writer<windfdi::FaultReport> reports(participant);
+  bus::Writer<windfdi::ServiceHealth> health(participant);
+  std::cout << "{\"ready\":true}" << std::endl;
+  const std::string big(huge, 'x');
+  const auto unknown = [](int i) {
+    char id[16];
+    std::snprintf(id, sizeof id, "HOSTILE%05d", i);
+    return std::string(id);
+  };
+  const double start = wall_time();
+  uint64_t frames_written = 0, reports_written = 0, health_written = 0, write_failures = 0;
+  uint64_t sequence = 0;
+  for (int round = 0; !shutdown_requested() && wall_time() - start < hold; ++round) {
+    for (int i = 0; i < farm && wall_time() - start < hold; ++i) {
+      windfdi::TurbineFrame frame;
+      frame.turbine_id(unknown(i));
+      FrameSample s;
+      s.sequence = static_cast<uint64_t>(round);
+      s.t = 0.01 * round;
+      s.rotor_speed = 1.2;
+      frame.samples().push_back(bus::to_idl(s));
+      frame.t(s.t);
+      (frames.write(frame) ? frames_written : write_failures)++;
+    }
+    // The real turbine's frames with samples no sensor gives, in a sequence of their own.
+    windfdi::TurbineFrame frame;
+    frame.turbine_id(turbine);
+    const double nan = std::numeric_limits<double>::quiet_NaN(),
+                 inf = std::numeric_limits<double>::infinity();
+    for (const double bad : {nan, inf, -inf, 1e308, -1e308}) {
+      FrameSample s;
+      s.sequence = 1000000000ULL + sequence++;
+      s.t = bad;
+      s.rotor_speed = bad;
+      s.generator_speed = bad;
+      s.pitch = s.pitch_ref = s.blade_moment = {bad, bad, bad};
+      s.gen_torque = s.power = s.wind_hub = s.azimuth = s.lidar_v_upper = s.lidar_v_lower = bad;
+      frame.samples().push_back(bus::to_idl(s));
+    }
+    frame.t(nan);
+    (frames.write(frame) ? frames_written : write_failures)++;
+    // Reports on unknown components and turbines, and huge strings.
+    FaultEvent e;
+    e.t = e.t_detected = 0.01 * round;
+    e.turbine_id = round % 2 ? turbine : unknown(round % std::max(farm, 1));
+    e.source = round % 3 ? "pitch_diag" : big;
+    e.component = round % 2 ? "flux_capacitor" : big;
+    e.fault = "sensor_bias";
+    e.severity = "critical";
+    e.detail = big;
+    try {
+      (reports.write(bus::to_idl(e)) ? reports_written : write_failures)++;
+    } catch (const std::invalid_argument&) {
+      ++write_failures;  // the sender's own check of the canonical names
+    }
+    windfdi::ServiceHealth h;
+    h.t(wall_time());
+    h.turbine_id(round % 2 ? big : unknown(round % std::max(farm, 1)));
+    h.service(round % 3 ? "pitch_diag" : big);
+    h.state(windfdi::SERVICE_OK);
+    h.detail(big);
+    (health.write(h) ? health_written : write_failures)++;
+  }
+  std::cout << nlohmann::json{{"frames", frames_written},
+                              {"reports", reports_written},
+                              {"health", health_written},
+                              {"write_failures", write_failures}}
+                   .dump()
+            << std::endl;
+  return 0;
+}
+
 // Creates and deletes a SensorBiasEstimate reader with a DDS content filter on `turbine` `cycles` times,
 // taking what arrives in between. The filter is made directly, not through bus::Reader (which keeps turbines
 // in take() on this topic): any DDS application on the domain may announce such a reader, and each arrival
@@ -457,9 +537,10 @@ int main(int argc, char** argv) {
   double rate = 100.0, timeout = 30.0;
   uint64_t expect = 0;
   app.add_option("mode", mode,
-                 "publish, listen, fault, configs, health, control, flood, churn, instances, count or newest")
+                 "publish, listen, fault, configs, health, control, flood, churn, instances, count, newest "
+                 "or hostile")
       ->check(CLI::IsMember({"publish", "listen", "fault", "configs", "health", "control", "flood", "churn",
-                             "instances", "count", "newest"}));
+                             "instances", "count", "newest", "hostile"}));
   std::string turbine = "WT01", source = "pitch_diag";
   std::vector<std::string> script;
   double hold = 30.0;
@@ -477,9 +558,12 @@ int main(int argc, char** argv) {
   int cycles = 100;
   app.add_option("--cycles", cycles, "churn mode: filtered readers to create and delete");
   int farm = 1000;
-  app.add_option("--farm", farm, "instances and count modes: turbines in the farm")
+  app.add_option("--farm", farm, "instances, count and hostile modes: turbines in the farm")
       ->check(CLI::Range(1, 9999));
+  std::size_t huge = 1 << 20;
+  app.add_option("--huge", huge, "hostile mode: bytes of the strings it writes in IDL string fields");
   return run_main(app, argc, argv, common, [&] {
+    if (mode == "hostile") return hostile(common, turbine, farm, huge, hold);
     if (mode == "publish") return publish(common, ids, blocks, block_size, readers, rate);
     if (mode == "fault") return fault(common, turbine, source, script, hold);
     if (mode == "configs") return configs(common, timeout);

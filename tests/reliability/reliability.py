@@ -3,7 +3,7 @@
 killed (SIGKILL) and restarted in turn, or frozen (SIGSTOP for 10 s, then SIGCONT), and the farm store and the
 processes' own logs are judged.
 
-  reliability.py processes [--only NAME,...] [--cases kill,freeze] [--rate R] [--turbines N] [--work DIR]
+  reliability.py processes [--only NAME[:CASE+CASE],...] [--cases kill,freeze] [--rate R] [--turbines N] [--work DIR]
                            [--json FILE] [--require]
 
 For each process and case: how long until the farm store shows it lost and back (the primary arbiter: until the
@@ -81,7 +81,8 @@ class Farm:
         self.env = dict(os.environ)
         self.env["WINDFDI_DOMAIN"] = str(int(os.environ.get("WINDFDI_DOMAIN", 150 + os.getpid() % 50)))
         self.env["WINDFDI_PARTICIPANT_PROFILE"] = "windfdi_participant_loopback"
-        for var in ("FASTRTPS_DEFAULT_PROFILES_FILE", "FASTDDS_DEFAULT_PROFILES_FILE", "ROS_DISCOVERY_SERVER"):
+        for var in ("FASTRTPS_DEFAULT_PROFILES_FILE", "FASTDDS_DEFAULT_PROFILES_FILE", "ROS_DISCOVERY_SERVER",
+                    "FASTDDS_ENVIRONMENT_FILE", "WINDFDI_QOS_FILE"):
             self.env.pop(var, None)
         self.procs, self.incarnations = {}, {}
 
@@ -309,67 +310,108 @@ def check_row(row):
     return problems
 
 
+def rss_mb(pid):
+    try:
+        with open(f"/proc/{pid}/status") as f:
+            for line in f:
+                if line.startswith("VmRSS:"):
+                    return int(line.split()[1]) / 1024.0
+    except OSError:
+        pass
+    return None
+
+
+def run_hostile(farm, ids, huge, hold, settle):
+    """A hostile peer (windfdi-test-peer hostile) on the farm's unsecured domain for `hold` s; returns the report."""
+    before = active_faults(farm)
+    rss0 = {n: rss_mb(p.pid) for n, p in farm.procs.items()}
+    t0 = time.time()
+    peer = subprocess.run([os.path.join(BIN, "windfdi-test-peer"), "hostile", "--farm", str(ids), "--huge", str(huge),
+                           "--hold", str(hold), "--turbine-id", "WT03"], env=farm.env, capture_output=True, text=True,
+                          timeout=hold + 60)
+    sent = {}
+    for line in peer.stdout.splitlines():
+        try:
+            sent.update(json.loads(line))
+        except ValueError:
+            pass
+    time.sleep(settle)
+    rss1 = {n: rss_mb(p.pid) for n, p in farm.procs.items()}
+    new_raises = sorted({f"{t} {c} {f} ({s})" for t, c, f, s in farm.query(
+        "SELECT turbine_id, component, fault, source FROM fault_events WHERE state = 'raised' AND received_at > ?",
+        (t0,)) if (t, c, f) not in before})
+    stops = farm.query("SELECT DISTINCT turbine_id FROM configurations WHERE mode = 'safe_stop' AND received_at > ?",
+                       (t0,))
+    hostile_turbines = farm.query(
+        "SELECT count(DISTINCT turbine_id) FROM (SELECT turbine_id FROM fault_events UNION "
+        "SELECT turbine_id FROM health_events UNION SELECT turbine_id FROM configurations) "
+        "WHERE turbine_id NOT LIKE 'WT%' AND turbine_id != '*'")[0][0]
+    return {
+        "sent": sent, "peer_exit": peer.returncode,
+        "rss_mb_before": rss0, "rss_mb_after": rss1, "exited": farm.exited(),
+        "faults_kept": before <= active_faults(farm), "new_raises": new_raises,
+        "safe_stops": sorted(s[0] for s in stops), "unknown_turbines_stored": hostile_turbines,
+    }
+
+
 def fmt(v):
     return "-" if v is None else f"{v:.1f}"
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    sub = ap.add_subparsers(dest="command", required=True)
-    p = sub.add_parser("processes", help="kill and freeze every process in turn")
-    p.add_argument("--only", default=",".join(PROCESSES), help="processes to kill or freeze, in this order")
-    p.add_argument("--cases", default="kill,freeze", help="kill, freeze or both")
-    p.add_argument("--rate", type=float, default=4.0, help="plant speed-up (default 4)")
-    p.add_argument("--turbines", type=int, default=3, help="turbines of the farm (3..10)")
-    p.add_argument("--warmup", type=float, default=60.0, help="wall seconds before the first case")
-    p.add_argument("--settle", type=float, default=15.0, help="wall seconds judged after each recovery")
-    p.add_argument("--work", help="directory for logs and the store (default: a new temporary one)")
-    p.add_argument("--json", help="also write the rows as JSON here")
-    p.add_argument("--require", action="store_true", help="exit 1 when any row fails")
-    a = ap.parse_args()
-    only = [n for n in a.only.split(",") if n]
-    cases = [c for c in a.cases.split(",") if c]
-    bad = [n for n in only if n not in PROCESSES] + [c for c in cases if c not in ("kill", "freeze")]
-    if bad or not 3 <= a.turbines <= 10 or a.rate <= 0:
-        print(f"reliability: bad --only/--cases/--turbines/--rate: {bad or (a.turbines, a.rate)}; processes are "
-              + ", ".join(PROCESSES), file=sys.stderr)
-        return 2
+def start_farm(a):
+    """The farm of `a.turbines` turbines with every process, its injected faults raised and `a.warmup` s more."""
     work = a.work or tempfile.mkdtemp(prefix="windfdi_reliability_")
     os.makedirs(work, exist_ok=True)
     farm = Farm(work, a.rate, a.turbines)
     for n in PROCESSES:
         if not os.access(farm.argv(n)[0], os.X_OK):
             print(f"reliability: {farm.argv(n)[0]} not built (deploy/scripts/setup.sh)", file=sys.stderr)
-            return 2
+            return None
+    for n in ["farm"] + SERVICES + ["arbiter", "standby"]:
+        farm.start(n)
+    time.sleep(3)  # the services and arbiters discover each other before the first frame
+    farm.start("plant")
+    print(f"reliability: domain {farm.env['WINDFDI_DOMAIN']}, {a.turbines} turbines at {a.rate}x, work {work}",
+          flush=True)
+    # The injected faults raised and settled before the first case.
+    ok = wait_for(lambda: EXPECTED <= active_faults(farm), a.warmup + 120)
+    time.sleep(a.warmup)
+    if not ok:
+        print("reliability: the injected faults were not raised: " + ", ".join(
+            " ".join(k) for k in active_faults(farm)), file=sys.stderr)
+    return farm
+
+
+def processes(a):
+    cases = [c for c in a.cases.split(",") if c]
+    # NAME:CASE+CASE gives a process cases of its own (CI freezes the primary arbiter only).
+    plan = []
+    for entry in (e for e in a.only.split(",") if e):
+        name, _, own = entry.partition(":")
+        plan += [(name, c) for c in (own.split("+") if own else cases)]
+    bad = [n for n, _ in plan if n not in PROCESSES] + [c for _, c in plan if c not in ("kill", "freeze")]
+    if bad:
+        print(f"reliability: bad --only/--cases: {bad}; processes are " + ", ".join(PROCESSES), file=sys.stderr)
+        return 2
     rows, problems = [], {}
-    # A SIGTERM (ctest's timeout, a Ctrl-C'd script) stops the farm like the end of the run does.
-    signal.signal(signal.SIGTERM, lambda *_: sys.exit(1))
+    farm = None
     try:
-        for n in ["farm"] + SERVICES + ["arbiter", "standby"]:
-            farm.start(n)
-        time.sleep(3)  # the services and arbiters discover each other before the first frame
-        farm.start("plant")
-        print(f"reliability: domain {farm.env['WINDFDI_DOMAIN']}, {a.turbines} turbines at {a.rate}x, work {work}",
-              flush=True)
-        # The injected faults raised and settled before the first case.
-        ok = wait_for(lambda: EXPECTED <= active_faults(farm), a.warmup + 120)
-        time.sleep(a.warmup)
-        if not ok:
-            print("reliability: the injected faults were not raised: " + ", ".join(
-                " ".join(k) for k in active_faults(farm)), file=sys.stderr)
-        for name in only:
-            for case in cases:
-                dead = farm.exited()
-                if dead:
-                    print("reliability: exited on their own: " + ", ".join(dead), file=sys.stderr)
-                row = run_case(farm, name, case, a.settle)
-                rows.append(row)
-                problems[(name, case)] = check_row(row)
-                print(f"  {name:12s} {case:6s} lost {fmt(row['lost_after_s'])} s, back {fmt(row['back_after_s'])} s"
-                      + ("" if not problems[(name, case)] else ": " + "; ".join(problems[(name, case)])),
-                      flush=True)
+        farm = start_farm(a)
+        if farm is None:
+            return 2
+        for name, case in plan:
+            dead = farm.exited()
+            if dead:
+                print("reliability: exited on their own: " + ", ".join(dead), file=sys.stderr)
+            row = run_case(farm, name, case, a.settle)
+            rows.append(row)
+            problems[(name, case)] = check_row(row)
+            print(f"  {name:12s} {case:6s} lost {fmt(row['lost_after_s'])} s, back {fmt(row['back_after_s'])} s"
+                  + ("" if not problems[(name, case)] else ": " + "; ".join(problems[(name, case)])),
+                  flush=True)
     finally:
-        farm.stop_all()
+        if farm:
+            farm.stop_all()
     # Every report a service logged as published is in the store (source, turbine, component, fault, state);
     # duplicates are kept apart only by their sample time, which the log does not give, so this counts kinds.
     stored = {tuple(r) for r in farm.query(
@@ -387,12 +429,86 @@ def main():
     print(f"reports the services logged that the store lacks: {len(missing)}" + "".join("\n  " + m for m in missing))
     print(f"configurations the plant applied out of order: {len(out_of_order)}"
           + "".join("\n  " + m for m in out_of_order))
-    print(f"work: {work}")
+    print(f"work: {farm.work}")
     if a.json:
         with open(a.json, "w") as f:
             json.dump({"rows": rows, "missing_reports": missing, "out_of_order": out_of_order}, f, indent=1)
     failed = any(problems.values()) or missing or out_of_order
     return 1 if a.require and failed else 0
+
+
+# The memory a hostile peer may cost a process (MB of resident memory, measured after it stopped): each keeps
+# state for at most --max-turbines turbines, and DDS drops what does not fit its resource limits.
+HOSTILE_RSS_GROWTH_MB = 64.0
+
+
+def hostile(a):
+    farm = None
+    try:
+        farm = start_farm(a)
+        if farm is None:
+            return 2
+        r = run_hostile(farm, a.ids, a.huge, a.hold, a.settle)
+    finally:
+        if farm:
+            farm.stop_all()
+    problems = []
+    if r["exited"]:
+        problems.append("exited: " + ", ".join(r["exited"]))
+    grown = {n: r["rss_mb_after"][n] - r["rss_mb_before"][n] for n in r["rss_mb_before"]
+             if r["rss_mb_before"][n] is not None and r["rss_mb_after"].get(n) is not None}
+    problems += [f"{n} grew {g:.0f} MB" for n, g in grown.items() if g > HOSTILE_RSS_GROWTH_MB]
+    if not r["faults_kept"]:
+        problems.append("a raised fault cleared")
+    if r["new_raises"]:
+        problems.append("raised: " + ", ".join(r["new_raises"]))
+    if r["safe_stops"]:
+        problems.append("safe stop of " + ", ".join(r["safe_stops"]))
+    print(f"hostile peer: {a.ids} unknown turbine ids, strings of {a.huge} bytes, {a.hold:.0f} s: sent {r['sent']}")
+    print()
+    print("| process | resident MB before | after | alive |")
+    print("|---|---|---|---|")
+    for n in r["rss_mb_before"]:
+        before, after = r["rss_mb_before"][n], r["rss_mb_after"].get(n)
+        print(f"| {n} | {fmt(before)} | {fmt(after)} | {'no' if n in r['exited'] else 'yes'} |")
+    print()
+    print(f"unknown turbines in the farm store: {r['unknown_turbines_stored']}")
+    print(f"raised on the real turbines: {', '.join(r['new_raises']) or 'nothing'}; safe stops: "
+          f"{', '.join(r['safe_stops']) or 'none'}; faults kept: {'yes' if r['faults_kept'] else 'NO'}")
+    print("problems: " + ("; ".join(problems) or "none"))
+    print(f"work: {farm.work}")
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump(dict(r, problems=problems), f, indent=1)
+    return 1 if a.require and problems else 0
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = ap.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("processes", help="kill and freeze every process in turn")
+    p.add_argument("--only", default=",".join(PROCESSES),
+                   help="processes to kill or freeze, in this order; NAME:kill+freeze gives one its own cases")
+    p.add_argument("--cases", default="kill,freeze", help="kill, freeze or both")
+    h = sub.add_parser("hostile", help="a hostile peer on the unsecured domain")
+    h.add_argument("--ids", type=int, default=10000, help="unknown turbine ids it sends frames for")
+    h.add_argument("--huge", type=int, default=1 << 20, help="bytes of the strings in its IDL string fields")
+    h.add_argument("--hold", type=float, default=60.0, help="wall seconds it sends")
+    for q in (p, h):
+        q.add_argument("--rate", type=float, default=4.0, help="plant speed-up (default 4)")
+        q.add_argument("--turbines", type=int, default=3, help="turbines of the farm (3..10)")
+        q.add_argument("--warmup", type=float, default=60.0, help="wall seconds before the first case")
+        q.add_argument("--settle", type=float, default=15.0, help="wall seconds judged after each case")
+        q.add_argument("--work", help="directory for logs and the store (default: a new temporary one)")
+        q.add_argument("--json", help="also write the results as JSON here")
+        q.add_argument("--require", action="store_true", help="exit 1 when anything fails")
+    a = ap.parse_args()
+    if not 3 <= a.turbines <= 10 or a.rate <= 0:
+        print(f"reliability: bad --turbines/--rate: {a.turbines}, {a.rate}", file=sys.stderr)
+        return 2
+    # A SIGTERM (ctest's timeout, a Ctrl-C'd script) stops the farm like the end of the run does.
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(1))
+    return processes(a) if a.command == "processes" else hostile(a)
 
 
 if __name__ == "__main__":
