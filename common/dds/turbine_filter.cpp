@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "turbine_selection.hpp"
+#include "yaml_config.hpp"
 
 namespace windfdi::bus {
 
@@ -80,14 +81,16 @@ ReturnCode TurbineFilterFactory::create_content_filter(const char*, const char*,
   if (!filter_expression) return filter_instance ? ReturnCode::RETCODE_OK : ReturnCode::RETCODE_BAD_PARAMETER;
   std::vector<std::string> values;
   std::istringstream in(filter_expression);
-  for (std::string value; in >> value;) {
-    if (!turbine_selection_error(value).empty()) return ReturnCode::RETCODE_BAD_PARAMETER;
-    values.push_back(value);
-  }
+  for (std::string value; in >> value;) values.push_back(value);
   if (values.empty()) return ReturnCode::RETCODE_BAD_PARAMETER;
-  // Fast DDS hands back the filter it made before when the expression changes: replace it.
-  delete static_cast<TurbineFilter*>(filter_instance);
-  filter_instance = new TurbineFilter(TurbineSelection(values));
+  try {
+    TurbineSelection selection(values);
+    // Fast DDS hands back the filter it made before when the expression changes: replace it.
+    delete static_cast<TurbineFilter*>(filter_instance);
+    filter_instance = new TurbineFilter(std::move(selection));
+  } catch (const ConfigError&) {
+    return ReturnCode::RETCODE_BAD_PARAMETER;
+  }
   return ReturnCode::RETCODE_OK;
 }
 

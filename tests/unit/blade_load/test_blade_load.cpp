@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <random>
 
 #include "blade_load_monitor.hpp"
@@ -478,32 +479,10 @@ TEST(LidarLoss, FallsBackToSensorOnlyAndReportsTheLidar) {
   EXPECT_LE(e->t - 200.0, 100.0 / 12.0 + 1.0 + 1.0 + 0.5);
 }
 
-TEST(LidarLoss, ARestartedPlantAClockStepOrLostSamplesAreNoLidarLoss) {
-  // GIVEN a monitor that followed the plant for 300 s, WHEN the plant restarts (its sample time from 0
-  // again, flagged as a gap, as the services do when the sequence restarts), its clock steps 5 minutes
-  // forward, or 10 s of samples are lost (a frozen service or plant): the reliability campaign's restarted
-  // or frozen plant, and a frozen blade_load, raised "no delayed LIDAR speeds" on every turbine
-  for (const char* what : {"restart", "clock step", "lost samples"}) {
-    const std::string w = what;
-    plant::TurbineScenario t;
-    t.id = "WT01";
-    t.wind.mean = 12.0;
-    t.wind.turbulence_intensity = 0.1;
-    plant::TurbineSim sim(TurbineParams{}, t, {}, 5, 100.0);
-    BladeLoadMonitor m(config(), LoadTable::load_csv(kTable));
-    std::vector<FaultEvent> events;
-    for (int k = 0; k < 600 * 100; ++k) {
-      FrameSample s = sim.step();
-      if (w == "restart" && k >= 300 * 100) s.t -= 300.0;
-      if (w == "clock step" && k >= 300 * 100) s.t += 300.0;
-      if (w == "lost samples" && k >= 300 * 100 && k < 310 * 100) continue;
-      m.update(s, k == (w == "lost samples" ? 310 : 300) * 100, events);
-    }
-    // THEN nothing is raised
-    EXPECT_TRUE(events.empty()) << what << ": " << events.front().component << " " << events.front().fault
-                                << " at " << events.front().t;
-  }
-  // AND a LIDAR that stays silent after lost samples is still reported, once its D / V has passed
+// The monitor on the plant at 12 m/s (10 % turbulence) for `seconds`; `alter` changes sample k in place or
+// drops it (false), and the sample at `gap_at` s is flagged as following a gap.
+std::vector<FaultEvent> run_at_12(double seconds, double gap_at,
+                                  const std::function<bool(int, FrameSample&)>& alter) {
   plant::TurbineScenario t;
   t.id = "WT01";
   t.wind.mean = 12.0;
@@ -511,12 +490,39 @@ TEST(LidarLoss, ARestartedPlantAClockStepOrLostSamplesAreNoLidarLoss) {
   plant::TurbineSim sim(TurbineParams{}, t, {}, 5, 100.0);
   BladeLoadMonitor m(config(), LoadTable::load_csv(kTable));
   std::vector<FaultEvent> events;
-  for (int k = 0; k < 360 * 100; ++k) {
+  for (int k = 0; k < static_cast<int>(seconds * 100); ++k) {
     FrameSample s = sim.step();
-    if (k >= 300 * 100 && k < 310 * 100) continue;
-    if (k >= 300 * 100) s.lidar_v_upper = s.lidar_v_lower = kNaN;
-    m.update(s, k == 310 * 100, events);
+    if (!alter(k, s)) continue;
+    m.update(s, k == static_cast<int>(gap_at * 100), events);
   }
+  return events;
+}
+
+TEST(LidarLoss, ARestartedPlantAClockStepOrLostSamplesAreNoLidarLoss) {
+  // GIVEN a monitor that followed the plant for 300 s, WHEN the plant restarts (its sample time from 0
+  // again, flagged as a gap, as the services do when the sequence restarts), its clock steps 5 minutes
+  // forward, or 10 s of samples are lost (a frozen service or plant): the reliability campaign's restarted
+  // or frozen plant, and a frozen blade_load, raised "no delayed LIDAR speeds" on every turbine
+  const auto restart = [](int k, FrameSample& s) {
+    if (k >= 300 * 100) s.t -= 300.0;
+    return true;
+  };
+  const auto clock_step = [](int k, FrameSample& s) {
+    if (k >= 300 * 100) s.t += 300.0;
+    return true;
+  };
+  const auto lost = [](int k, FrameSample&) { return k < 300 * 100 || k >= 310 * 100; };
+  // THEN nothing is raised
+  for (const auto& [what, events] : {std::pair{"restart", run_at_12(600.0, 300.0, restart)},
+                                     std::pair{"clock step", run_at_12(600.0, 300.0, clock_step)},
+                                     std::pair{"lost samples", run_at_12(600.0, 310.0, lost)}})
+    EXPECT_TRUE(events.empty()) << what << ": " << events.front().component << " " << events.front().fault
+                                << " at " << events.front().t;
+  // AND a LIDAR that stays silent after lost samples is still reported, once its D / V has passed
+  const auto events = run_at_12(360.0, 310.0, [](int k, FrameSample& s) {
+    if (k >= 300 * 100) s.lidar_v_upper = s.lidar_v_lower = kNaN;
+    return k < 300 * 100 || k >= 310 * 100;
+  });
   const FaultEvent* e = first_raised(events, "lidar", 310.0);
   ASSERT_NE(e, nullptr);
   EXPECT_EQ(e->fault, "sensor_invalid");
