@@ -1,6 +1,8 @@
 // Typed DDS writer and reader: a node publishes or takes a topic in a few lines.
 #pragma once
 
+#include <fastcdr/exceptions/Exception.h>
+
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -14,7 +16,6 @@
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <functional>
 #include <mutex>
-#include <set>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -22,6 +23,7 @@
 
 #include "participant.hpp"
 #include "topics.hpp"
+#include "turbine_selection.hpp"
 
 namespace windfdi::bus {
 
@@ -56,13 +58,36 @@ class Wakeup {
   bool pending_ = false;
 };
 
+/// A generated type support whose getKey cannot throw. Fast DDS computes a received sample's key with it when
+/// the writer sent no key hash, in its receive thread; the generated getKey serializes the key fields into a
+/// buffer sized for 255-byte strings and throws past it, and every process reading the topic ended
+/// ("terminate called ... NotEnoughMemoryException": the reliability campaign's hostile peer, a turbine id of
+/// 1 MB). Such a key is hashed from the turbine id instead (every windfdi topic is keyed by it); the sample
+/// is then refused by that id (TurbineLimit).
+template <class PubSub>
+class BoundedKeyType : public PubSub {
+ public:
+  bool getKey(void* data, eprosima::fastrtps::rtps::InstanceHandle_t* handle,
+              bool force_md5 = false) override {
+    try {
+      return PubSub::getKey(data, handle, force_md5);
+    } catch (const eprosima::fastcdr::exception::Exception&) {
+      const std::string& id = static_cast<const typename PubSub::type*>(data)->turbine_id();
+      const std::size_t hash = std::hash<std::string>{}(id);
+      for (std::size_t i = 0; i < 16; ++i)
+        handle->value[i] = static_cast<uint8_t>((hash >> (8 * (i % 8))) ^ (i < 8 ? 0x5a : 0xa5));
+      return true;
+    }
+  }
+};
+
 /// The type support of a topic type. Its TypeObject stays registered locally (the SQL content filter needs
 /// it) but is not announced in discovery: Debian's fast-discovery-server 2.9.1 crashes building a dynamic
 /// type from the announced type objects (TypeObjectFactory::get_sequence_identifier), and nothing in windfdi
 /// uses remote type discovery.
 template <class PubSub>
 eprosima::fastdds::dds::TypeSupport type_support() {
-  eprosima::fastdds::dds::TypeSupport type(new PubSub());
+  eprosima::fastdds::dds::TypeSupport type(new BoundedKeyType<PubSub>());
   type->auto_fill_type_object(false);
   type->auto_fill_type_information(false);
   return type;
@@ -182,7 +207,7 @@ class Reader : private eprosima::fastdds::dds::DataReaderListener {
          const std::string& profile = Traits::profile)
       : participant_(participant), wakeup_(wakeup) {
     using namespace eprosima::fastdds::dds;
-    if (!Traits::writer_filtering) wanted_.insert(turbine_ids.begin(), turbine_ids.end());
+    if (!Traits::writer_filtering) wanted_ = TurbineSelection(turbine_ids);
     auto* topic =
         participant.topic_for_turbines(Traits::name, type_support<typename Traits::PubSub>(),
                                        Traits::writer_filtering ? turbine_ids : std::vector<std::string>{});
@@ -209,7 +234,7 @@ class Reader : private eprosima::fastdds::dds::DataReaderListener {
     while (reader_->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
       // Disposals and unregistrations arrive as invalid samples.
       if (!info.valid_data) continue;
-      if (!wanted_.empty() && !wanted_.count(sample.turbine_id())) continue;
+      if (!wanted_.contains(sample.turbine_id())) continue;
       out.push_back(sample);
       if (meta)
         meta->push_back({info.publication_handle, static_cast<double>(info.source_timestamp.to_ns()) * 1e-9,
@@ -265,7 +290,10 @@ class Reader : private eprosima::fastdds::dds::DataReaderListener {
   Participant& participant_;
   Wakeup* wakeup_;
   eprosima::fastdds::dds::DataReader* reader_ = nullptr;
-  std::set<std::string> wanted_;  // turbines kept by take() (empty: all, or the DDS filter keeps them)
+  // Turbines kept by take() (all when the DDS filter keeps them). A set of the --turbine values once: a
+  // range FIRST..LAST matched no id, and a farm monitor, arbiter or service given a range received no
+  // report, health or configuration (found by the reliability campaign's filtered farm).
+  TurbineSelection wanted_;
   EndpointStatus status_;
   std::mutex mutex_;
   std::vector<LivelinessEvent> liveliness_events_;

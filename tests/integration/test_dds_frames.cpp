@@ -5,9 +5,11 @@
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <thread>
 
 #include "process.hpp"
+#include "test_util.hpp"
 
 using namespace windfdi::test;
 
@@ -56,6 +58,28 @@ class DdsFrames : public ::testing::Test {
   }
   int domain = private_domain(1);
 };
+
+TEST_F(DdsFrames, ARangeSelectsItsTurbinesOnTopicsFilteredAtTheReaderToo) {
+  // GIVEN a health reader given the range WT01..WT03 (wt/health is filtered in the reader, not the writer)
+  const auto env = dds_env(domain);
+  ChildProcess range({bin("windfdi-test-peer"), "health", "--turbine", "WT01..WT03", "--timeout", "12"}, env,
+                     "health-range");
+  ASSERT_TRUE(wait_ready(range, std::chrono::seconds(20))) << range.stderr_text();
+  // WHEN services report health for WT02 and for WT09
+  std::vector<std::unique_ptr<ChildProcess>> services;
+  for (const char* id : {"WT02", "WT09"})
+    services.push_back(std::make_unique<ChildProcess>(
+        std::vector<std::string>{bin("windfdi-test-peer"), "fault", "--source", "pitch_diag", "--turbine-id",
+                                 id, "--hold", "6"},
+        env, std::string("service-") + id));
+  ASSERT_EQ(range.wait(std::chrono::seconds(30)), 0) << range.stderr_text();
+  // THEN the reader has WT02's health and not WT09's (before the fix it had none: the range was compared
+  // as one id)
+  std::set<std::string> seen;
+  for (const auto& line : json_lines(range.stdout_text()))
+    if (line.contains("turbine_id")) seen.insert(line["turbine_id"].get<std::string>());
+  EXPECT_EQ(seen, std::set<std::string>{"WT02"}) << range.stdout_text();
+}
 
 TEST_F(DdsFrames, FilteredAndUnfilteredReadersGetExactlyTheirTurbines) {
   // GIVEN a reader of every turbine, one filtered to WT02 and one to the range WT02..WT03, on a private
