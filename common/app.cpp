@@ -30,6 +30,11 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
          "turbine)")
       ->take_all()
       ->check(turbine_selection_error);
+  app.add_option("--max-turbines", o.max_turbines,
+                 "turbines this instance keeps state for, the first it hears of; messages naming others are "
+                 "refused and counted (a peer on an unsecured domain can name any number)")
+      ->capture_default_str()
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1000000}));
   app.add_option("--log-level", o.log_level, "trace, debug, info, warn, error, critical or off")
       ->capture_default_str();
   app.add_option("--qos", o.qos_file, "Fast DDS XML QoS profile file (default deploy/qos/windfdi_qos.xml)");
@@ -104,6 +109,12 @@ bool sleep_unless_shutdown(std::chrono::nanoseconds d) {
     std::this_thread::sleep_for(std::min<std::chrono::nanoseconds>(end - now, std::chrono::milliseconds(50)));
   }
   return false;
+}
+
+bool worth_logging(uint64_t count) {
+  uint64_t power = 1;
+  while (power <= count / 10) power *= 10;
+  return count == power;
 }
 
 double wall_time() {

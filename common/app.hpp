@@ -3,11 +3,13 @@
 
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "dds/participant.hpp"
+#include "turbine_limit.hpp"
 
 namespace windfdi {
 
@@ -19,14 +21,17 @@ constexpr int kExitBadInput = 2;
 struct CommonOptions {
   int domain = -1;                    ///< --domain; -1: $WINDFDI_DOMAIN, else 0
   std::vector<std::string> turbines;  ///< --turbine (repeatable); empty: every turbine
-  std::string log_level = "info";     ///< --log-level
-  std::string qos_file;               ///< --qos; empty: see bus::resolve_qos_file
+  std::size_t max_turbines =
+      kDefaultMaxTurbines;          ///< --max-turbines: turbines followed at most (TurbineLimit)
+  std::string log_level = "info";   ///< --log-level
+  std::string qos_file;             ///< --qos; empty: see bus::resolve_qos_file
   std::string participant_profile;  ///< --participant-profile; empty: $WINDFDI_PARTICIPANT_PROFILE or default
   std::string security_dir;         ///< --security DIR: DDS-Security credentials (deploy/security/)
   std::string security_role;        ///< --security-role; empty: the executable's own role
 };
 
-/// Adds --domain, --turbine, --log-level, --qos, --participant-profile, --security, --security-role and
+/// Adds --domain, --turbine, --max-turbines, --log-level, --qos, --participant-profile, --security,
+/// --security-role and
 /// --version.
 void add_common_options(CLI::App& app, CommonOptions& options);
 
@@ -42,6 +47,10 @@ void install_signal_handlers();
 bool shutdown_requested();
 /// Sleeps up to `d`, returning early (false) when shutdown is requested.
 bool sleep_unless_shutdown(std::chrono::nanoseconds d);
+
+/// True at the 1st, 10th, 100th... occurrence of something counted: a flood of bad input is said in the log,
+/// not echoed line by line.
+bool worth_logging(uint64_t count);
 
 /// Wall-clock time (s since the Unix epoch).
 double wall_time();

@@ -1,7 +1,10 @@
 // A fault event and its JSON Lines form.
 #include "fault_event.hpp"
 
+#include <algorithm>
 #include <cmath>
+
+#include "names.hpp"
 
 namespace windfdi {
 
@@ -43,6 +46,16 @@ FaultEvent fault_event_from_json(const nlohmann::json& j) {
   e.t_detected = j.value("t_detected", e.t);
   e.detail = j.value("detail", std::string());
   return e;
+}
+
+std::string foreign_report_reason(const FaultEvent& e) {
+  if (name_index(service_names(), e.source) < 0) return "its source is no diagnostic service";
+  if (!is_component(e.component)) return "its component is not a canonical one";
+  const auto classes = fault_classes_for(e.component);
+  if (std::find(classes.begin(), classes.end(), e.fault) == classes.end())
+    return "its class is not one of " + e.component.substr(0, 64);
+  if (name_index(severity_names(), e.severity) < 0) return "its severity is unknown";
+  return "";
 }
 
 }  // namespace windfdi

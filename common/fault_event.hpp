@@ -22,6 +22,15 @@ struct FaultEvent {
   std::string detail;
 };
 
+/// The longest detail kept of a FaultReport received on DDS (bytes); a longer one is cut (the IDL's strings
+/// are unbounded, and a peer on an unsecured domain may send megabytes).
+constexpr std::size_t kMaxReportDetail = 4096;
+
+/// Why a FaultReport received on DDS is none windfdi's services could have sent ("" when it could): its
+/// source is no diagnostic service, its component or class is not canonical or not of that component, or its
+/// severity is unknown. Such a report is counted and dropped, never kept: its strings could be anything.
+std::string foreign_report_reason(const FaultEvent& e);
+
 /// The replay contract's event line: keys t, turbine_id, source, component, fault, state, severity,
 /// statistic, detail (plus threshold, size and t_detected).
 nlohmann::json to_json(const FaultEvent& e);

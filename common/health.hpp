@@ -42,6 +42,8 @@ class HealthReporter {
     (add_streams(endpoints.status()), ...);
   }
 
+  /// Whether the next tick at `wall_now` publishes (a second has passed since the last report).
+  bool due(double wall_now) const { return wall_now - last_report_ >= 1.0; }
   /// Publishes when a second has passed since the last report (or `force`).
   void tick(double wall_now, bool force = false);
   uint64_t total_rejected() const;

@@ -45,6 +45,11 @@ const std::vector<std::string>& service_names() {
   return n;
 }
 
+bool is_health_source(const std::string& name) {
+  return name == "plant" || name == "arbiter" || name == "farm_monitor" ||
+         name_index(service_names(), name) >= 0;
+}
+
 int name_index(const std::vector<std::string>& names, const std::string& name) {
   const auto it = std::find(names.begin(), names.end(), name);
   return it == names.end() ? -1 : static_cast<int>(it - names.begin());

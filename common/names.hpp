@@ -15,6 +15,10 @@ const std::vector<std::string>& component_names();
 /// Names of the diagnostic services, which are also components for `service_lost`.
 const std::vector<std::string>& service_names();
 
+/// What may speak on wt/health: the diagnostic services, "plant", "arbiter" and "farm_monitor". Health from
+/// any other name is foreign (a peer on an unsecured domain) and is dropped.
+bool is_health_source(const std::string& name);
+
 /// Index of `name` in `names`, or -1.
 int name_index(const std::vector<std::string>& names, const std::string& name);
 bool is_component(const std::string& name);

@@ -33,17 +33,21 @@ void ServiceLiveliness::on_writer_lost(const Writer& writer, std::vector<Service
   writers_.erase(it);
 }
 
-std::vector<ServiceChange> ServiceLiveliness::poll(bus::Reader<windfdi::ServiceHealth>& reader,
-                                                   std::vector<windfdi::ServiceHealth>* samples) {
+std::vector<ServiceChange> ServiceLiveliness::poll(
+    bus::Reader<windfdi::ServiceHealth>& reader, std::vector<windfdi::ServiceHealth>* samples,
+    const std::function<bool(const windfdi::ServiceHealth&)>& admit) {
   std::vector<ServiceChange> changes;
-  std::vector<windfdi::ServiceHealth> health;
+  std::vector<windfdi::ServiceHealth> health, admitted;
   std::vector<bus::SampleMeta> meta;
   reader.take(health, &meta);
-  for (std::size_t i = 0; i < health.size(); ++i)
+  for (std::size_t i = 0; i < health.size(); ++i) {
+    if (admit && !admit(health[i])) continue;
     on_health(meta[i].writer, health[i].turbine_id(), health[i].service(), changes);
+    admitted.push_back(std::move(health[i]));
+  }
   for (const auto& ev : reader.take_liveliness_events())
     if (!ev.alive) on_writer_lost(ev.writer, changes);
-  if (samples) *samples = std::move(health);
+  if (samples) *samples = std::move(admitted);
   return changes;
 }
 

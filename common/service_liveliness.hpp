@@ -1,6 +1,7 @@
 // Which diagnostic services are alive for which turbine, from wt/health samples and writer liveliness.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <set>
 #include <string>
@@ -33,8 +34,11 @@ class ServiceLiveliness {
 
   /// Takes new health samples and liveliness events; returns the appearances and losses, in order.
   /// `samples` receives the health samples taken (for callers that also want their contents).
+  /// `admit`, when given, decides which samples count at all (the others are dropped, also from `samples`):
+  /// every (turbine, service) named is remembered, so a caller bounds them (TurbineLimit, is_health_source).
   std::vector<ServiceChange> poll(bus::Reader<windfdi::ServiceHealth>& reader,
-                                  std::vector<windfdi::ServiceHealth>* samples = nullptr);
+                                  std::vector<windfdi::ServiceHealth>* samples = nullptr,
+                                  const std::function<bool(const windfdi::ServiceHealth&)>& admit = {});
 
   /// A health sample from `writer`: an appearance when no other live writer speaks for (turbine, service).
   void on_health(const Writer& writer, const std::string& turbine_id, const std::string& service,

@@ -3,6 +3,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <cmath>
+
 #include "dds/convert.hpp"
 
 namespace windfdi {
@@ -16,6 +18,7 @@ DiagnosticNode::DiagnosticNode(const CommonOptions& options, const std::string& 
       health_(participant_, service, options.turbines),
       other_faults_(participant_, options.turbines, &wakeup_),
       configurations_(participant_, options.turbines, &wakeup_),
+      limit_(options.max_turbines, service),
       trace_(service) {}
 
 const InputContext& DiagnosticNode::context(const std::string& turbine_id) {
@@ -26,8 +29,14 @@ void DiagnosticNode::take_context() {
   std::vector<windfdi::FaultReport> reports;
   other_faults_.take(reports);
   for (const auto& r : reports) {
+    if (!limit_.admit(r.turbine_id())) continue;
+    const FaultEvent e = bus::to_event(r);
+    if (!foreign_report_reason(e).empty()) {
+      health_.count_rejected(r.turbine_id());
+      continue;
+    }
     auto& tracker = contexts_.try_emplace(r.turbine_id(), service_).first->second;
-    if (tracker.on_fault(bus::to_event(r)))
+    if (tracker.on_fault(e))
       spdlog::info("{}: {} {} {} by {}: inputs that rely on it are suspect", r.turbine_id(), r.component(),
                    bus::fault_class_name(r.fault_class()),
                    r.state() == windfdi::FAULT_STATE_RAISED ? "raised" : "cleared", r.source());
@@ -35,6 +44,7 @@ void DiagnosticNode::take_context() {
   std::vector<windfdi::ControlConfiguration> configs;
   configurations_.take(configs);
   for (const auto& c : configs) {
+    if (!limit_.admit(c.turbine_id())) continue;
     // The control content only: a republished configuration, or new reasons alone, moves nothing.
     std::string content = std::to_string(c.mode()) + "/" + std::to_string(c.ipc_source()) + "/" +
                           std::to_string(c.use_corrected_rotor_speed()) +
@@ -90,7 +100,8 @@ void DiagnosticNode::run(const SampleFn& process) {
     if (lidar_) {
       lidar.clear();
       lidar_->take(lidar);
-      for (const auto& f : lidar) on_lidar_(f.turbine_id(), f);
+      for (const auto& f : lidar)
+        if (limit_.admit(f.turbine_id())) on_lidar_(f.turbine_id(), f);
     }
     frames.clear();
     meta.clear();
@@ -100,10 +111,19 @@ void DiagnosticNode::run(const SampleFn& process) {
     frame_taken_ = now;
     for (std::size_t i = 0; i < frames.size(); ++i) {
       const std::string& id = frames[i].turbine_id();
+      if (!limit_.admit(id)) continue;
       frame_meta_ = meta[i];
       auto& tracker = sequence_[id];
       auto& clock = sample_times_[id];
       for (const auto& s : frames[i].samples()) {
+        // A sample without a usable time is rejected before it can count as a gap or a clock step (a peer
+        // on an unsecured domain sent NaN and 1e308 times into a real turbine's stream, and blade_load
+        // raised a false lidar sensor_invalid on the restarts they caused).
+        if (!std::isfinite(s.t()) || std::abs(s.t()) > kMaxSampleTime) {
+          health_.count_in(id);
+          health_.count_rejected(id);
+          continue;
+        }
         const uint64_t lost = tracker.lost_before(s.sequence());
         if (lost) {
           health_.count_gap(id, lost);
@@ -120,6 +140,11 @@ void DiagnosticNode::run(const SampleFn& process) {
         if (!process(id, bus::to_sample(s), lost > 0 || step != 0.0)) health_.count_rejected(id);
       }
       health_.set_lag(id, std::max(0.0, now - meta[i].source_time));
+    }
+    // Said in the health detail (the farm shows it), at most once a second while refusals go on.
+    if (limit_.refused() != refusals_reported_ && health_.due(now)) {
+      refusals_reported_ = limit_.refused();
+      health_.set_state(windfdi::SERVICE_OK, limit_.describe());
     }
     health_.set_streams_of(frames_, faults_, other_faults_, configurations_);
     if (lidar_) health_.add_streams(lidar_->status());

@@ -24,6 +24,8 @@ namespace windfdi {
 
 class DiagnosticNode {
  public:
+  /// The largest sample time taken (s): 300 years, so seconds since the Unix epoch pass.
+  static constexpr double kMaxSampleTime = 1e10;
   /// Per-sample callback: false when the core rejected the sample; `gap` when samples were lost before it.
   using SampleFn = std::function<bool(const std::string& turbine_id, const FrameSample& sample, bool gap)>;
   using LidarFn = std::function<void(const std::string& turbine_id, const windfdi::LidarFrame& frame)>;
@@ -60,6 +62,9 @@ class DiagnosticNode {
   // Other services' faults and the arbiter's configurations: the inputs' context (input_context.hpp).
   bus::Reader<windfdi::FaultReport> other_faults_;
   bus::Reader<windfdi::ControlConfiguration> configurations_;
+  // Every map below and the service's own per-turbine state hold admitted turbines only.
+  TurbineLimit limit_;
+  uint64_t refusals_reported_ = 0;
   std::map<std::string, InputContextTracker> contexts_;
   std::map<std::string, std::string> last_control_;  // turbine -> the control content last seen
   void take_context();

@@ -96,7 +96,7 @@ FaultEvent to_event(const windfdi::FaultReport& r) {
   e.statistic = r.statistic();
   e.threshold = r.threshold();
   e.size = r.size();
-  e.detail = r.detail();
+  e.detail = r.detail().substr(0, kMaxReportDetail);
   return e;
 }
 

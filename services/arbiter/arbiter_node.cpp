@@ -44,6 +44,7 @@ windfdi::ControlConfiguration to_idl(const Configuration& c, const std::string& 
 ArbiterNode::ArbiterNode(const CommonOptions& common, const ArbiterConfig& config, const NodeOptions& options)
     : common_(common),
       served_(common.turbines),
+      limit_(common.max_turbines, "arbiter"),
       config_(config),
       options_(options),
       participant_(participant_options(common, "windfdi-arbiter")),
@@ -59,7 +60,9 @@ ArbiterNode::ArbiterNode(const CommonOptions& common, const ArbiterConfig& confi
       health_(participant_, "arbiter", common.turbines),
       trace_("arbiter") {}
 
-bool ArbiterNode::serves(const std::string& id) const { return id != "*" && served_.contains(id); }
+bool ArbiterNode::serves(const std::string& id) {
+  return id != "*" && served_.contains(id) && limit_.admit(id);
+}
 
 ArbiterNode::Turbine& ArbiterNode::turbine(const std::string& id) {
   auto it = turbines_.find(id);
@@ -87,6 +90,12 @@ void ArbiterNode::handle_inputs(double wall) {
     if (!serves(r.turbine_id())) continue;
     health_.count_in(r.turbine_id());
     const FaultEvent e = bus::to_event(r);
+    if (const std::string why = foreign_report_reason(e); !why.empty()) {
+      health_.count_rejected(r.turbine_id());
+      if (worth_logging(++foreign_reports_))
+        spdlog::warn("{}: ignoring a FaultReport ({} so far): {}", r.turbine_id(), foreign_reports_, why);
+      continue;
+    }
     Turbine& t = turbine(r.turbine_id());
     t.dirty = true;
     if (trace_.on()) {
@@ -113,7 +122,10 @@ void ArbiterNode::handle_inputs(double wall) {
     stalled_until_ = wall + kStallGrace;
     last_pass_ = wall;
   }
-  for (const auto& c : liveliness_.poll(health_in_)) {
+  const auto admit = [this](const windfdi::ServiceHealth& h) {
+    return is_health_source(h.service()) && (h.turbine_id() == "*" || serves(h.turbine_id()));
+  };
+  for (const auto& c : liveliness_.poll(health_in_, nullptr, admit)) {
     if (c.service == "arbiter") continue;
     // The plant and farm monitors report health too (the plant's first sample makes its turbines known); a
     // lost farm monitor is no lost diagnostic service and the decision ignores it, so it is not logged as
@@ -246,6 +258,10 @@ void ArbiterNode::run() {
     publish_configurations(now);
     config_out_.assert_liveliness();
     health_.set_streams_of(faults_, health_in_, inertia_, pitch_, acks_, config_out_);
+    if (limit_.refused() != refusals_reported_ && health_.due(now)) {
+      refusals_reported_ = limit_.refused();
+      health_.set_state(windfdi::SERVICE_OK, limit_.describe());
+    }
     health_.tick(now);
   }
   std::lock_guard<std::mutex> lock(step_mutex_);

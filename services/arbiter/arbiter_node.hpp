@@ -21,6 +21,7 @@
 #include "pitch_diag_estimate_topic.hpp"
 #include "service_liveliness.hpp"
 #include "turbine_clock.hpp"
+#include "turbine_limit.hpp"
 #include "turbine_selection.hpp"
 
 namespace windfdi::arbiter {
@@ -71,12 +72,16 @@ class ArbiterNode {
   /// them for ones it had stored, keyed by turbine, arbiter and revision, and dropped them).
   const uint64_t revision_base_ = static_cast<uint64_t>(wall_time() * 1000.0);
   Turbine& turbine(const std::string& id);
-  bool serves(const std::string& id) const;
+  /// Whether the turbine is this arbiter's: selected (--turbine) and within --max-turbines.
+  bool serves(const std::string& id);
   void handle_inputs(double now);
   void publish_configurations(double now);
 
   CommonOptions common_;
   TurbineSelection served_;  ///< common_.turbines, parsed once (serves() runs per sample)
+  TurbineLimit limit_;
+  uint64_t foreign_reports_ = 0;  ///< FaultReports no windfdi service could have sent
+  uint64_t refusals_reported_ = 0;
   ArbiterConfig config_;
   NodeOptions options_;
   bus::Participant participant_;

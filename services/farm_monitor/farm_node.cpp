@@ -8,6 +8,7 @@
 
 #include "dds/convert.hpp"
 #include "farm_cli.hpp"
+#include "names.hpp"
 #include "yaml_config.hpp"
 
 namespace windfdi::farm {
@@ -37,14 +38,15 @@ ConfigRecord to_record(const windfdi::ControlConfiguration& c, double received_a
   r.received_at = received_at;
   r.t = c.t();
   r.turbine_id = c.turbine_id();
-  r.arbiter_id = c.arbiter_id();
+  r.arbiter_id = c.arbiter_id().substr(0, kMaxTurbineIdLength);
   r.revision = c.revision();
   r.mode = setting_name(c.mode(), windfdi::MODE_SAFE_STOP);
   r.ipc_source = setting_name(c.ipc_source(), windfdi::IPC_OFF);
   r.ice_mode = setting_name(c.ice_mode(), windfdi::ICE_STOP);
   for (const auto& reason : c.reasons())
-    r.reasons.push_back(reason.source() + "/" + reason.component() + "/" +
-                        bus::fault_class_name(reason.fault_class()) + ": " + reason.action());
+    r.reasons.push_back((reason.source() + "/" + reason.component() + "/" +
+                         bus::fault_class_name(reason.fault_class()) + ": " + reason.action())
+                            .substr(0, kMaxReportDetail));
   return r;
 }
 
@@ -61,7 +63,8 @@ FarmNode::FarmNode(const CommonOptions& common, const FarmOptions& options)
       bias_estimates_(participant_, common.turbines),
       pitch_estimates_(participant_, common.turbines),
       inertia_estimates_(participant_, common.turbines),
-      drive_train_estimates_(participant_, common.turbines) {
+      drive_train_estimates_(participant_, common.turbines),
+      limit_(common.max_turbines, "farm_monitor") {
   try {
     self_health_ = std::make_unique<HealthReporter>(participant_, kSelf, std::vector<std::string>{});
   } catch (const std::exception& e) {
@@ -109,6 +112,7 @@ nlohmann::json blades(const Array& a) {
 
 void FarmNode::sample(const std::string& turbine, const std::string& service, double t, nlohmann::json fields,
                       double now) {
+  if (!limit_.admit(turbine)) return;
   const auto last = estimate_stored_at_.find(turbine + "/" + service);
   if (last != estimate_stored_at_.end() && t >= last->second &&
       t - last->second < options_.estimate_period - 1e-9)
@@ -178,20 +182,31 @@ void FarmNode::handle(double now) {
   std::vector<windfdi::FaultReport> reports;
   faults_.take(reports);
   for (const auto& r : reports) {
+    if (!limit_.admit(r.turbine_id())) continue;
     const FaultEvent e = bus::to_event(r);
+    if (const std::string why = foreign_report_reason(e); !why.empty()) {
+      // No windfdi service sent it: neither stored nor shown.
+      if (worth_logging(++foreign_reports_))
+        spdlog::warn("{}: ignoring a FaultReport ({} so far): {}", r.turbine_id(), foreign_reports_, why);
+      continue;
+    }
     backlog_.add(StoreBacklog::Fault{e, now});
     state_.on_fault(e);
   }
   std::vector<windfdi::ControlConfiguration> configs;
   configs_.take(configs);
   for (const auto& c : configs) {
+    if (!limit_.admit(c.turbine_id())) continue;
     ConfigRecord rec = to_record(c, now);
     state_.on_config(rec);
     backlog_.add(std::move(rec));
   }
   std::vector<windfdi::ServiceHealth> health;
   bool lost_any = false;
-  for (const auto& c : liveliness_.poll(health_, &health)) {
+  const auto admit = [this](const windfdi::ServiceHealth& h) {
+    return is_health_source(h.service()) && limit_.admit(h.turbine_id());
+  };
+  for (const auto& c : liveliness_.poll(health_, &health, admit)) {
     if (c.alive) continue;
     lost_any = true;
     spdlog::warn("{}: service {} lost (liveliness)", c.turbine_id, c.service);
@@ -265,15 +280,19 @@ void FarmNode::keep_store_health(double now) {
   }
   const std::string problem = backlog_.describe();
   const auto state = problem.empty() ? windfdi::SERVICE_OK : windfdi::SERVICE_DEGRADED;
+  // Turbines refused past --max-turbines are said too (renewed once a second), but leave the farm monitor
+  // ok: what it keeps is whole.
+  if (!self_health_ || self_health_->due(now)) refused_note_ = limit_.describe();
+  const std::string detail = problem + (problem.empty() || refused_note_.empty() ? "" : "; ") + refused_note_;
   if (self_health_) {
-    self_health_->set_state(state, problem);
+    self_health_->set_state(state, detail);
     self_health_->set_streams_of(faults_, configs_, health_);
     self_health_->tick(now);
   }
   // Also in /metrics and the page, with or without the DDS writer.
   ServiceMetrics& self = metrics_["*/" + kSelf];
   const std::string self_state = state == windfdi::SERVICE_OK ? "ok" : "degraded";
-  if (self.state != self_state) backlog_.add(HealthRecord{now, "*", kSelf, self_state, problem});
+  if (self.state != self_state) backlog_.add(HealthRecord{now, "*", kSelf, self_state, detail});
   self.state = self_state;
 }
 

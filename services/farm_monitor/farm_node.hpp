@@ -24,6 +24,7 @@
 #include "sensor_bias_estimate_topic.hpp"
 #include "service_liveliness.hpp"
 #include "store_backlog.hpp"
+#include "turbine_limit.hpp"
 
 namespace windfdi::farm {
 
@@ -72,6 +73,10 @@ class FarmNode {
   std::map<std::string, double> estimate_stored_at_;  // turbine/service -> t of the last stored estimate
   std::vector<EstimateRecord> estimate_batch_;
   double pruned_at_ = 0.0;
+  // Every map here and the store hold admitted turbines only (a hostile peer names any number).
+  TurbineLimit limit_;
+  uint64_t foreign_reports_ = 0;  ///< FaultReports no windfdi service could have sent
+  std::string refused_note_;      ///< limit_.describe() as last said in the health detail
   ServiceLiveliness liveliness_;
   std::map<std::string, ServiceMetrics>
       metrics_;  // turbine/service -> its last health (state stored, /metrics)

@@ -2,6 +2,7 @@
 // configurations, health, and a whole farm's instances).
 #include <spdlog/spdlog.h>
 
+#include <cstdlib>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -267,22 +268,60 @@ int flood(const CommonOptions& common, const std::vector<std::string>& ids, doub
   return 0;
 }
 
+// A type support that ignores the IDL's string bounds (Fast DDS sizes a writer's payloads and key buffer for
+// 255-byte strings and throws past them): what a hostile peer on the domain may send. Its key hash is not the
+// standard's MD5 of the key: readers take the hash a writer sends as given.
+template <class T>
+class OversizedType : public bus::TopicTraits<T>::PubSub {
+ public:
+  static constexpr uint32_t kMaxBytes = 8u << 20;
+  OversizedType() { this->m_typeSize = kMaxBytes; }
+  bool getKey(void* data, eprosima::fastrtps::rtps::InstanceHandle_t* handle, bool) override {
+    const auto* sample = static_cast<const T*>(data);
+    const std::size_t hash = std::hash<std::string>{}(sample->turbine_id());
+    for (std::size_t i = 0; i < 16; ++i) handle->value[i] = static_cast<uint8_t>(hash >> (8 * (i % 8)) ^ i);
+    return true;
+  }
+};
+
+template <class T>
+class OversizedWriter {
+ public:
+  explicit OversizedWriter(bus::Participant& participant) : participant_(participant) {
+    using namespace eprosima::fastdds::dds;
+    using Traits = bus::TopicTraits<T>;
+    auto* topic = participant.topic(Traits::name, bus::type_support<OversizedType<T>>());
+    DataWriterQos qos;
+    participant.publisher()->get_datawriter_qos_from_profile(Traits::profile, qos);
+    // The topic's own reliability and durability: windfdi's readers match no weaker offer.
+    qos.endpoint().history_memory_policy = eprosima::fastrtps::rtps::DYNAMIC_RESERVE_MEMORY_MODE;
+    writer_ = participant.publisher()->create_datawriter(topic, qos);
+    if (!writer_)
+      throw std::runtime_error(std::string("cannot create an oversized writer for ") + Traits::name);
+  }
+  ~OversizedWriter() { participant_.publisher()->delete_datawriter(writer_); }
+  bool write(const T& sample) { return writer_->write(const_cast<T*>(&sample)); }
+
+ private:
+  bus::Participant& participant_;
+  eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
+};
+
 // A hostile peer on an unsecured domain, for `hold` s: frames for `farm` unknown turbine ids
 // (HOSTILE00000...), frames of `turbine` with NaN, infinite and out-of-range samples, FaultReports and health
 // for unknown turbines, components and services, and strings of `huge` bytes in every IDL string field it
 // writes.
 int hostile(const CommonOptions& common, const std::string& turbine, int farm, std::size_t huge,
-            double hold) {
+            int report_keys, double hold) {
   bus::Participant participant(participant_options(common, "windfdi-test-peer-hostile"));
   bus::Writer<windfdi::TurbineFrame> frames(participant);
-  bus::Writer<windfdi::FaultReport> reports(participant);
-  bus::Writer<windfdi::ServiceHealth> health(participant);
+  OversizedWriter<windfdi::FaultReport> reports(participant);
+  OversizedWriter<windfdi::ServiceHealth> health(participant);
   std::cout << "{\"ready\":true}" << std::endl;
   const std::string big(huge, 'x');
   const auto unknown = [](int i) {
-    char id[16];
-    std::snprintf(id, sizeof id, "HOSTILE%05d", i);
-    return std::string(id);
+    const std::string number = std::to_string(i);
+    return "HOSTILE" + std::string(number.size() < 5 ? 5 - number.size() : 0, '0') + number;
   };
   const double start = wall_time();
   uint64_t frames_written = 0, reports_written = 0, health_written = 0, write_failures = 0;
@@ -316,26 +355,43 @@ int hostile(const CommonOptions& common, const std::string& turbine, int farm, s
     }
     frame.t(nan);
     (frames.write(frame) ? frames_written : write_failures)++;
-    // Reports on unknown components and turbines, and huge strings.
+    // Reports and health in four kinds by turn: strings of `huge` bytes in every field; an unknown component
+    // and service; a turbine id of 200 bytes (within the IDL's 255, beyond windfdi's 64); an unknown turbine.
+    const int kind = round % 4;
+    const std::string long_id(200, 'L');
     FaultEvent e;
     e.t = e.t_detected = 0.01 * round;
-    e.turbine_id = round % 2 ? turbine : unknown(round % std::max(farm, 1));
-    e.source = round % 3 ? "pitch_diag" : big;
-    e.component = round % 2 ? "flux_capacitor" : big;
+    e.turbine_id = kind == 0   ? big
+                   : kind == 1 ? turbine
+                   : kind == 2 ? long_id
+                               : unknown(round % std::max(farm, 1));
+    e.source = kind == 0 ? big : "pitch_diag";
+    e.component = kind == 0 ? big : kind == 1 ? "flux_capacitor" : "pitch_sensor_1";
     e.fault = "sensor_bias";
     e.severity = "critical";
-    e.detail = big;
+    e.detail = kind == 0 ? big : "hostile";
     try {
       (reports.write(bus::to_idl(e)) ? reports_written : write_failures)++;
     } catch (const std::invalid_argument&) {
       ++write_failures;  // the sender's own check of the canonical names
     }
+    // Canonical reports under `report_keys` distinct keys (turbine, source, component): each is an instance
+    // every reader of wt/fault keeps.
+    for (int k = 0; k < report_keys && wall_time() - start < hold; ++k) {
+      FaultEvent key = e;
+      key.turbine_id = unknown(farm + k);
+      key.source = "pitch_diag";
+      key.component = "pitch_actuator_" + std::to_string(1 + k % 3);
+      key.fault = "pump_wear";
+      key.detail.clear();
+      (reports.write(bus::to_idl(key)) ? reports_written : write_failures)++;
+    }
     windfdi::ServiceHealth h;
     h.t(wall_time());
-    h.turbine_id(round % 2 ? big : unknown(round % std::max(farm, 1)));
-    h.service(round % 3 ? "pitch_diag" : big);
+    h.turbine_id(kind == 0 ? big : kind == 2 ? long_id : unknown(round % std::max(farm, 1)));
+    h.service(kind == 0 ? big : kind == 1 ? "flux_capacitor_monitor" : "pitch_diag");
     h.state(windfdi::SERVICE_OK);
-    h.detail(big);
+    h.detail(kind == 0 ? big : "hostile");
     (health.write(h) ? health_written : write_failures)++;
   }
   std::cout << nlohmann::json{{"frames", frames_written},
@@ -344,7 +400,10 @@ int hostile(const CommonOptions& common, const std::string& turbine, int farm, s
                               {"write_failures", write_failures}}
                    .dump()
             << std::endl;
-  return 0;
+  // A hostile peer need not leave politely, and a reliable writer whose 1 MB samples no reader can take
+  // held the participant's teardown for minutes: gone at once, like a crashed peer (the test removes the
+  // shared-memory files it leaves).
+  std::_Exit(0);
 }
 
 // Creates and deletes a SensorBiasEstimate reader with a DDS content filter on `turbine` `cycles` times,
@@ -559,11 +618,14 @@ int main(int argc, char** argv) {
   app.add_option("--cycles", cycles, "churn mode: filtered readers to create and delete");
   int farm = 1000;
   app.add_option("--farm", farm, "instances, count and hostile modes: turbines in the farm")
-      ->check(CLI::Range(1, 9999));
+      ->check(CLI::Range(1, 100000));
+  int report_keys = 0;
+  app.add_option("--report-keys", report_keys,
+                 "hostile mode: FaultReports under this many distinct keys each round (DDS instances)");
   std::size_t huge = 1 << 20;
   app.add_option("--huge", huge, "hostile mode: bytes of the strings it writes in IDL string fields");
   return run_main(app, argc, argv, common, [&] {
-    if (mode == "hostile") return hostile(common, turbine, farm, huge, hold);
+    if (mode == "hostile") return hostile(common, turbine, farm, huge, report_keys, hold);
     if (mode == "publish") return publish(common, ids, blocks, block_size, readers, rate);
     if (mode == "fault") return fault(common, turbine, source, script, hold);
     if (mode == "configs") return configs(common, timeout);

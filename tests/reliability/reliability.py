@@ -14,6 +14,14 @@ the plant applied a configuration revision out of order; whether the restart its
 raised that was not raised before, a class changed, a safe stop, a derate no fault warrants). Exit 1 with
 --require when any of these fails (CI runs a subset that way), 2 on bad arguments.
 
+  reliability.py hostile [--ids 10000] [--huge BYTES] [--hold S] [--max-turbines N] [--filtered]
+                         [--report-keys N] [--work DIR] [--json FILE] [--require]
+
+A hostile peer (windfdi-test-peer hostile) on the farm's unsecured domain for --hold s: frames for --ids made-up
+turbines, NaN / infinite / 1e308 samples of WT03, reports and health with unknown components, services and
+turbines, ids of 200 bytes and strings of --huge bytes. Reported: every process's resident memory before and
+after, which ended, what was raised on the real turbines, safe stops, unknown turbines in the farm store.
+
 Processes: plant, the five diagnostic services, arbiter (primary, strength 100), standby (strength 10), farm.
 Everything runs as real DDS participants on a private domain (loopback discovery), the plant in closed loop at
 --rate times real time (default 4); logs and the store go to --work (default a temporary directory).
@@ -70,8 +78,12 @@ def scenario_yaml(turbines, duration):
 class Farm:
     """The processes of a small farm, each restartable; every log of every incarnation is kept."""
 
-    def __init__(self, work, rate, turbines):
+    def __init__(self, work, rate, turbines, max_turbines=None, filtered=False):
         self.work, self.rate = work, rate
+        # --max-turbines for every process (a deployment sets it to the farm's size); None: the default.
+        self.max_turbines = max_turbines
+        # Every process but the plant given the farm's turbines (--turbine WT01..WTnn, a DDS content filter).
+        self.selection = [f"WT01..WT{turbines:02d}"] if filtered else []
         self.logs = os.path.join(work, "logs")
         os.makedirs(self.logs, exist_ok=True)
         self.db = os.path.join(work, "farm.sqlite")
@@ -87,6 +99,12 @@ class Farm:
         self.procs, self.incarnations = {}, {}
 
     def argv(self, name):
+        if name == "plant":
+            return self.base_argv(name)
+        return (self.base_argv(name) + ([] if self.max_turbines is None else ["--max-turbines", str(self.max_turbines)])
+                + sum((["--turbine", v] for v in self.selection), []))
+
+    def base_argv(self, name):
         if name in SERVICES:
             exe = os.path.join(BIN, "windfdi-" + name.replace("_", "-"))
             cfg = os.path.join(TOP, "deploy", "config", name + ".yaml")
@@ -321,20 +339,22 @@ def rss_mb(pid):
     return None
 
 
-def run_hostile(farm, ids, huge, hold, settle):
+def run_hostile(farm, ids, huge, hold, settle, report_keys=0):
     """A hostile peer (windfdi-test-peer hostile) on the farm's unsecured domain for `hold` s; returns the report."""
     before = active_faults(farm)
     rss0 = {n: rss_mb(p.pid) for n, p in farm.procs.items()}
     t0 = time.time()
     peer = subprocess.run([os.path.join(BIN, "windfdi-test-peer"), "hostile", "--farm", str(ids), "--huge", str(huge),
-                           "--hold", str(hold), "--turbine-id", "WT03"], env=farm.env, capture_output=True, text=True,
-                          timeout=hold + 60)
+                           "--hold", str(hold), "--turbine-id", "WT03", "--report-keys", str(report_keys)],
+                          env=farm.env, capture_output=True, text=True, timeout=hold + 60)
     sent = {}
     for line in peer.stdout.splitlines():
         try:
             sent.update(json.loads(line))
         except ValueError:
             pass
+    if peer.returncode != 0:
+        print(f"reliability: windfdi-test-peer hostile exited {peer.returncode}: {peer.stderr.strip()}", file=sys.stderr)
     time.sleep(settle)
     rss1 = {n: rss_mb(p.pid) for n, p in farm.procs.items()}
     new_raises = sorted({f"{t} {c} {f} ({s})" for t, c, f, s in farm.query(
@@ -362,7 +382,7 @@ def start_farm(a):
     """The farm of `a.turbines` turbines with every process, its injected faults raised and `a.warmup` s more."""
     work = a.work or tempfile.mkdtemp(prefix="windfdi_reliability_")
     os.makedirs(work, exist_ok=True)
-    farm = Farm(work, a.rate, a.turbines)
+    farm = Farm(work, a.rate, a.turbines, getattr(a, "max_turbines", None), getattr(a, "filtered", False))
     for n in PROCESSES:
         if not os.access(farm.argv(n)[0], os.X_OK):
             print(f"reliability: {farm.argv(n)[0]} not built (deploy/scripts/setup.sh)", file=sys.stderr)
@@ -448,11 +468,11 @@ def hostile(a):
         farm = start_farm(a)
         if farm is None:
             return 2
-        r = run_hostile(farm, a.ids, a.huge, a.hold, a.settle)
+        r = run_hostile(farm, a.ids, a.huge, a.hold, a.settle, a.report_keys)
     finally:
         if farm:
             farm.stop_all()
-    problems = []
+    problems = [] if r["peer_exit"] == 0 else [f"the hostile peer failed (exit {r['peer_exit']})"]
     if r["exited"]:
         problems.append("exited: " + ", ".join(r["exited"]))
     grown = {n: r["rss_mb_after"][n] - r["rss_mb_before"][n] for n in r["rss_mb_before"]
@@ -464,7 +484,9 @@ def hostile(a):
         problems.append("raised: " + ", ".join(r["new_raises"]))
     if r["safe_stops"]:
         problems.append("safe stop of " + ", ".join(r["safe_stops"]))
-    print(f"hostile peer: {a.ids} unknown turbine ids, strings of {a.huge} bytes, {a.hold:.0f} s: sent {r['sent']}")
+    print(f"hostile peer: {a.ids} unknown turbine ids, strings of {a.huge} bytes, {a.hold:.0f} s: sent {r['sent']}; "
+          f"every process with --max-turbines {a.max_turbines or 'default'}"
+          + (f" and --turbine {farm.selection[0]}" if farm.selection else ""))
     print()
     print("| process | resident MB before | after | alive |")
     print("|---|---|---|---|")
@@ -494,6 +516,12 @@ def main():
     h.add_argument("--ids", type=int, default=10000, help="unknown turbine ids it sends frames for")
     h.add_argument("--huge", type=int, default=1 << 20, help="bytes of the strings in its IDL string fields")
     h.add_argument("--hold", type=float, default=60.0, help="wall seconds it sends")
+    h.add_argument("--max-turbines", type=int, default=10,
+                   help="every process's --max-turbines (default 10: the farm's 3 and room; 0: the default 1000)")
+    h.add_argument("--filtered", action="store_true",
+                   help="every process but the plant also given --turbine WT01..WTnn (the farm's turbines)")
+    h.add_argument("--report-keys", type=int, default=0,
+                   help="the peer also sends canonical FaultReports under this many distinct keys a round")
     for q in (p, h):
         q.add_argument("--rate", type=float, default=4.0, help="plant speed-up (default 4)")
         q.add_argument("--turbines", type=int, default=3, help="turbines of the farm (3..10)")
@@ -508,6 +536,8 @@ def main():
         return 2
     # A SIGTERM (ctest's timeout, a Ctrl-C'd script) stops the farm like the end of the run does.
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(1))
+    if a.command == "hostile" and a.max_turbines == 0:
+        a.max_turbines = None
     return processes(a) if a.command == "processes" else hostile(a)
 
 

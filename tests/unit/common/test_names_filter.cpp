@@ -6,10 +6,13 @@
 #include "ControlConfigurationPubSubTypes.h"
 #include "LidarFramePubSubTypes.h"
 #include "TurbineFramePubSubTypes.h"
+#include "app.hpp"
 #include "dds/convert.hpp"
 #include "dds/participant.hpp"
 #include "dds/turbine_filter.hpp"
+#include "fault_event.hpp"
 #include "names.hpp"
+#include "turbine_limit.hpp"
 #include "turbine_selection.hpp"
 #include "yaml_config.hpp"
 
@@ -178,6 +181,62 @@ TEST(TurbineSelection, AMalformedRangeIsAConfigErrorNamingIt) {
       EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
     }
   }
+}
+
+TEST(TurbineLimit, FollowsTheFirstTurbinesUpToItsLimitAndCountsTheRest) {
+  // GIVEN a limit of 3 turbines
+  windfdi::TurbineLimit limit(3, "test");
+  EXPECT_EQ(limit.describe(), "");
+  // WHEN 3 turbines come, then 10 000 more (a hostile peer), then the first ones again
+  for (const char* id : {"WT01", "WT02", "WT03"}) EXPECT_TRUE(limit.admit(id)) << id;
+  for (int i = 0; i < 10000; ++i) EXPECT_FALSE(limit.admit("HOSTILE" + std::to_string(i)));
+  // THEN the first three stay followed, "*" always is, and the others were refused and counted
+  for (const char* id : {"WT01", "WT02", "WT03", "*"}) EXPECT_TRUE(limit.admit(id)) << id;
+  EXPECT_EQ(limit.followed(), 3u);
+  EXPECT_EQ(limit.refused(), 10000u);
+  EXPECT_NE(limit.describe().find("10000 messages refused"), std::string::npos) << limit.describe();
+  EXPECT_NE(limit.describe().find("first refused: HOSTILE0"), std::string::npos) << limit.describe();
+}
+
+TEST(TurbineLimit, AMalformedOrHugeIdIsNeverFollowed) {
+  windfdi::TurbineLimit limit(1000, "test");
+  // An id of a megabyte, with a space, with a control byte, or empty: refused with room to spare.
+  const std::string huge(1 << 20, 'x');
+  for (const std::string& id : {huge, std::string("WT 01"), std::string("WT\x01"), std::string()})
+    EXPECT_FALSE(limit.admit(id)) << id.size();
+  EXPECT_TRUE(limit.admit(std::string(windfdi::kMaxTurbineIdLength, 'a')));
+  EXPECT_EQ(limit.followed(), 1u);
+  // The description shortens what it names.
+  EXPECT_LT(limit.describe().size(), 300u) << limit.describe();
+}
+
+TEST(Logging, AFloodIsLoggedAtPowersOfTen) {
+  std::vector<uint64_t> logged;
+  for (uint64_t n = 0; n <= 100000; ++n)
+    if (windfdi::worth_logging(n)) logged.push_back(n);
+  EXPECT_EQ(logged, (std::vector<uint64_t>{1, 10, 100, 1000, 10000, 100000}));
+}
+
+TEST(ForeignReport, OnlyWhatAWindfdiServiceCouldSendIsKept) {
+  windfdi::FaultEvent e;
+  e.source = "pitch_diag";
+  e.component = "pitch_actuator_2";
+  e.fault = "pump_wear";
+  e.severity = "warning";
+  EXPECT_EQ(windfdi::foreign_report_reason(e), "");
+  auto with = [&](auto change) {
+    windfdi::FaultEvent f = e;
+    change(f);
+    return windfdi::foreign_report_reason(f);
+  };
+  EXPECT_NE(with([](auto& f) { f.source = std::string(1 << 20, 'x'); }), "");
+  EXPECT_NE(with([](auto& f) { f.component = "flux_capacitor"; }), "");
+  EXPECT_NE(with([](auto& f) { f.fault = "sensor_drift"; }), "");  // no class of an actuator
+  EXPECT_NE(with([](auto& f) { f.severity = "apocalyptic"; }), "");
+  // A detail of a megabyte arrives cut.
+  windfdi::FaultReport r = bus::to_idl(e);
+  r.detail(std::string(1 << 20, 'x'));
+  EXPECT_EQ(bus::to_event(r).detail.size(), windfdi::kMaxReportDetail);
 }
 
 TEST(Names, BladeIndexOfPerBladeComponentsOnly) {
