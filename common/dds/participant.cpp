@@ -1,8 +1,11 @@
 // RAII DDS participant built from the XML QoS profiles in deploy/qos/ (DDS-Security: security.cpp).
 #include "participant.hpp"
 
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <spdlog/spdlog.h>
+#include <sys/statvfs.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
@@ -44,6 +47,38 @@ void load_profiles_once(const std::string& file) {
     if (const char* v = std::getenv(var); v && *v)
       spdlog::warn("{}={} is set: it changes Fast DDS behaviour beside {}", var, v, file);
 }
+// Shared memory a participant's SHM transport maps beside its segment: its port queues and their locks.
+constexpr uint64_t kShmPortRoom = 2u << 20;
+
+// A participant whose SHM transport cannot have its segment in /dev/shm dies of SIGBUS the first time it
+// writes there (measured: /dev/shm full, the listener and the publisher of a test both ended, no message).
+// Without that room it goes on over UDP alone, which every windfdi participant also speaks, and says so.
+void use_udp_without_shm_room(DomainParticipantQos& qos, const std::string& name) {
+  auto& transports = qos.transport().user_transports;
+  uint64_t needed = 0;
+  for (const auto& t : transports)
+    if (const auto shm = std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(t))
+      needed = std::max<uint64_t>(needed, shm->segment_size() + kShmPortRoom);
+  if (needed == 0) return;
+  struct statvfs fs {};
+  if (statvfs("/dev/shm", &fs) != 0) return;  // no /dev/shm to ask: Fast DDS says what it finds
+  const uint64_t free_bytes = static_cast<uint64_t>(fs.f_bavail) * fs.f_frsize;
+  if (free_bytes >= needed) return;
+  transports.erase(
+      std::remove_if(
+          transports.begin(), transports.end(),
+          [](const auto& t) {
+            return std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(t) !=
+                   nullptr;
+          }),
+      transports.end());
+  spdlog::warn(
+      "{}: /dev/shm has {:.1f} MB free, shared memory needs {:.1f} MB: running over UDP alone (slower "
+      "between "
+      "processes of this host; free /dev/shm, e.g. of a crashed run's files with 'fastdds shm clean', and "
+      "restart to use it)",
+      name, static_cast<double>(free_bytes) / 1048576.0, static_cast<double>(needed) / 1048576.0);
+}
 }  // namespace
 
 Participant::Participant(const ParticipantOptions& options) : domain_(options.domain) {
@@ -79,6 +114,7 @@ Participant::Participant(const ParticipantOptions& options) : domain_(options.do
   const char* no_precheck = std::getenv("WINDFDI_SECURITY_NO_PRECHECK");
   if (secure_ && !(no_precheck && std::string(no_precheck) == "1"))
     validate_security_files(security, options.domain);
+  use_udp_without_shm_room(qos, options.name);
   participant_ = factory->create_participant(options.domain, qos);
   if (!participant_ && secure_)
     throw ConfigError(security.certificate.empty() ? options.security_dir : security.certificate, 0, "",
