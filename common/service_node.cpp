@@ -29,12 +29,9 @@ void DiagnosticNode::take_context() {
   std::vector<windfdi::FaultReport> reports;
   other_faults_.take(reports);
   for (const auto& r : reports) {
-    if (!limit_.admit(r.turbine_id())) continue;
+    // Checked before the turbine is admitted: a foreign report takes no place among the turbines followed.
     const FaultEvent e = bus::to_event(r);
-    if (!foreign_report_reason(e).empty()) {
-      health_.count_rejected(r.turbine_id());
-      continue;
-    }
+    if (!foreign_report_reason(e).empty() || !limit_.admit(r.turbine_id())) continue;
     auto& tracker = contexts_.try_emplace(r.turbine_id(), service_).first->second;
     if (tracker.on_fault(e))
       spdlog::info("{}: {} {} {} by {}: inputs that rely on it are suspect", r.turbine_id(), r.component(),

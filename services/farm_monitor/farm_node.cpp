@@ -182,14 +182,15 @@ void FarmNode::handle(double now) {
   std::vector<windfdi::FaultReport> reports;
   faults_.take(reports);
   for (const auto& r : reports) {
-    if (!limit_.admit(r.turbine_id())) continue;
     const FaultEvent e = bus::to_event(r);
     if (const std::string why = foreign_report_reason(e); !why.empty()) {
-      // No windfdi service sent it: neither stored nor shown.
+      // No windfdi service sent it: neither stored nor shown, and it takes no place among the turbines.
       if (worth_logging(++foreign_reports_))
-        spdlog::warn("{}: ignoring a FaultReport ({} so far): {}", r.turbine_id(), foreign_reports_, why);
+        spdlog::warn("{}: ignoring a FaultReport ({} so far): {}",
+                     e.turbine_id.substr(0, kMaxTurbineIdLength), foreign_reports_, why);
       continue;
     }
+    if (!limit_.admit(r.turbine_id())) continue;
     backlog_.add(StoreBacklog::Fault{e, now});
     state_.on_fault(e);
   }

@@ -315,8 +315,10 @@ int hostile(const CommonOptions& common, const std::string& turbine, int farm, s
             int report_keys, double hold) {
   bus::Participant participant(participant_options(common, "windfdi-test-peer-hostile"));
   bus::Writer<windfdi::TurbineFrame> frames(participant);
-  OversizedWriter<windfdi::FaultReport> reports(participant);
-  OversizedWriter<windfdi::ServiceHealth> health(participant);
+  // The samples with 1 MB strings have writers of their own: windfdi's readers take none of them, and in one
+  // reliable stream they could hold back the others.
+  OversizedWriter<windfdi::FaultReport> reports(participant), huge_reports(participant);
+  OversizedWriter<windfdi::ServiceHealth> health(participant), huge_health(participant);
   std::cout << "{\"ready\":true}" << std::endl;
   const std::string big(huge, 'x');
   const auto unknown = [](int i) {
@@ -371,7 +373,7 @@ int hostile(const CommonOptions& common, const std::string& turbine, int farm, s
     e.severity = "critical";
     e.detail = kind == 0 ? big : "hostile";
     try {
-      (reports.write(bus::to_idl(e)) ? reports_written : write_failures)++;
+      ((kind == 0 ? huge_reports : reports).write(bus::to_idl(e)) ? reports_written : write_failures)++;
     } catch (const std::invalid_argument&) {
       ++write_failures;  // the sender's own check of the canonical names
     }
@@ -392,7 +394,7 @@ int hostile(const CommonOptions& common, const std::string& turbine, int farm, s
     h.service(kind == 0 ? big : kind == 1 ? "flux_capacitor_monitor" : "pitch_diag");
     h.state(windfdi::SERVICE_OK);
     h.detail(kind == 0 ? big : "hostile");
-    (health.write(h) ? health_written : write_failures)++;
+    ((kind == 0 ? huge_health : health).write(h) ? health_written : write_failures)++;
   }
   std::cout << nlohmann::json{{"frames", frames_written},
                               {"reports", reports_written},
