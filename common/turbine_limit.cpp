@@ -48,4 +48,12 @@ std::string TurbineLimit::describe() const {
          " followed; first refused: " + first_refused_;
 }
 
+bool ForeignReports::refuse(const FaultEvent& e) {
+  const std::string why = foreign_report_reason(e);
+  if (why.empty()) return false;
+  if (worth_logging(++count_))
+    spdlog::warn("{}: ignoring a FaultReport ({} so far): {}", shortened(e.turbine_id), count_, why);
+  return true;
+}
+
 }  // namespace windfdi

@@ -6,6 +6,8 @@
 #include <string>
 #include <string_view>
 
+#include "fault_event.hpp"
+
 namespace windfdi {
 
 /// How many turbines an instance keeps state for when no --max-turbines is given: twice the 500 turbines one
@@ -38,6 +40,18 @@ class TurbineLimit {
   std::set<std::string, std::less<>> followed_;
   uint64_t refused_ = 0;
   std::string first_refused_;
+};
+
+/// Drops FaultReports no windfdi service could have sent (foreign_report_reason), counting them and logging
+/// at the 1st, 10th, 100th... one; the arbiter and the farm monitor check a report with it before its turbine
+/// is admitted, so a foreign report takes no place among the turbines followed.
+class ForeignReports {
+ public:
+  /// True when `e` is foreign (and then counted and, at a power of ten, logged).
+  bool refuse(const FaultEvent& e);
+
+ private:
+  uint64_t count_ = 0;
 };
 
 }  // namespace windfdi

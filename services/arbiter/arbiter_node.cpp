@@ -88,14 +88,7 @@ void ArbiterNode::handle_inputs(double wall) {
   for (std::size_t i = 0; i < reports.size(); ++i) {
     const auto& r = reports[i];
     const FaultEvent e = bus::to_event(r);
-    // Checked before serves() admits the turbine: a foreign report takes no place among the turbines.
-    if (const std::string why = foreign_report_reason(e); !why.empty()) {
-      if (worth_logging(++foreign_reports_))
-        spdlog::warn("{}: ignoring a FaultReport ({} so far): {}",
-                     e.turbine_id.substr(0, kMaxTurbineIdLength), foreign_reports_, why);
-      continue;
-    }
-    if (!serves(r.turbine_id())) continue;
+    if (foreign_reports_.refuse(e) || !serves(r.turbine_id())) continue;
     health_.count_in(r.turbine_id());
     Turbine& t = turbine(r.turbine_id());
     t.dirty = true;

@@ -80,7 +80,7 @@ class ArbiterNode {
   CommonOptions common_;
   TurbineSelection served_;  ///< common_.turbines, parsed once (serves() runs per sample)
   TurbineLimit limit_;
-  uint64_t foreign_reports_ = 0;  ///< FaultReports no windfdi service could have sent
+  ForeignReports foreign_reports_;
   uint64_t refusals_reported_ = 0;
   ArbiterConfig config_;
   NodeOptions options_;

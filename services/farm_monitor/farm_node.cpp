@@ -183,14 +183,8 @@ void FarmNode::handle(double now) {
   faults_.take(reports);
   for (const auto& r : reports) {
     const FaultEvent e = bus::to_event(r);
-    if (const std::string why = foreign_report_reason(e); !why.empty()) {
-      // No windfdi service sent it: neither stored nor shown, and it takes no place among the turbines.
-      if (worth_logging(++foreign_reports_))
-        spdlog::warn("{}: ignoring a FaultReport ({} so far): {}",
-                     e.turbine_id.substr(0, kMaxTurbineIdLength), foreign_reports_, why);
-      continue;
-    }
-    if (!limit_.admit(r.turbine_id())) continue;
+    // A foreign report is neither stored nor shown.
+    if (foreign_reports_.refuse(e) || !limit_.admit(r.turbine_id())) continue;
     backlog_.add(StoreBacklog::Fault{e, now});
     state_.on_fault(e);
   }

@@ -75,8 +75,8 @@ class FarmNode {
   double pruned_at_ = 0.0;
   // Every map here and the store hold admitted turbines only (a hostile peer names any number).
   TurbineLimit limit_;
-  uint64_t foreign_reports_ = 0;  ///< FaultReports no windfdi service could have sent
-  std::string refused_note_;      ///< limit_.describe() as last said in the health detail
+  ForeignReports foreign_reports_;
+  std::string refused_note_;  ///< limit_.describe() as last said in the health detail
   ServiceLiveliness liveliness_;
   std::map<std::string, ServiceMetrics>
       metrics_;  // turbine/service -> its last health (state stored, /metrics)
