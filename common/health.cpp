@@ -37,6 +37,12 @@ uint64_t HealthReporter::total_rejected() const {
   return n;
 }
 
+void HealthReporter::report_refusals(const TurbineLimit& limit, double wall_now) {
+  if (limit.refused() == refusals_reported_ || !due(wall_now)) return;
+  refusals_reported_ = limit.refused();
+  set_state(windfdi::SERVICE_OK, limit.describe());
+}
+
 void HealthReporter::tick(double wall_now, bool force) {
   writer_.assert_liveliness();
   if (!force && wall_now - last_report_ < 1.0) return;

@@ -8,6 +8,7 @@
 
 #include "ServiceHealth.h"
 #include "dds/endpoints.hpp"
+#include "turbine_limit.hpp"
 
 namespace windfdi {
 
@@ -44,6 +45,9 @@ class HealthReporter {
 
   /// Whether the next tick at `wall_now` publishes (a second has passed since the last report).
   bool due(double wall_now) const { return wall_now - last_report_ >= 1.0; }
+  /// Puts the limit's refusals in the detail (state OK) when they grew and a report is due, so a flood of
+  /// made-up turbines shows in the health at most once a second.
+  void report_refusals(const TurbineLimit& limit, double wall_now);
   /// Publishes when a second has passed since the last report (or `force`).
   void tick(double wall_now, bool force = false);
   uint64_t total_rejected() const;
@@ -62,6 +66,7 @@ class HealthReporter {
   std::string detail_;
   StreamStatus streams_;
   double last_report_ = -1e300;
+  uint64_t refusals_reported_ = 0;
 };
 
 }  // namespace windfdi

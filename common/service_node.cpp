@@ -139,10 +139,7 @@ void DiagnosticNode::run(const SampleFn& process) {
       health_.set_lag(id, std::max(0.0, now - meta[i].source_time));
     }
     // Said in the health detail (the farm shows it), at most once a second while refusals go on.
-    if (limit_.refused() != refusals_reported_ && health_.due(now)) {
-      refusals_reported_ = limit_.refused();
-      health_.set_state(windfdi::SERVICE_OK, limit_.describe());
-    }
+    health_.report_refusals(limit_, now);
     health_.set_streams_of(frames_, faults_, other_faults_, configurations_);
     if (lidar_) health_.add_streams(lidar_->status());
     health_.tick(now);

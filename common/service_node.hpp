@@ -64,7 +64,6 @@ class DiagnosticNode {
   bus::Reader<windfdi::ControlConfiguration> configurations_;
   // Every map below and the service's own per-turbine state hold admitted turbines only.
   TurbineLimit limit_;
-  uint64_t refusals_reported_ = 0;
   std::map<std::string, InputContextTracker> contexts_;
   std::map<std::string, std::string> last_control_;  // turbine -> the control content last seen
   void take_context();

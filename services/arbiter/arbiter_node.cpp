@@ -73,6 +73,16 @@ ArbiterNode::Turbine& ArbiterNode::turbine(const std::string& id) {
   return it->second;
 }
 
+void ArbiterNode::apply_liveliness(const std::string& instance_turbine, const std::string& service,
+                                   bool alive, double wall) {
+  // "*": an instance that has not named a turbine yet; it speaks for the turbines no instance named.
+  for (auto& [id, t] : turbines_)
+    if (instance_turbine == id || (instance_turbine == "*" && liveliness_.alive(id, service) == alive)) {
+      t.arbiter.on_service_alive(service, alive, t.clock.now(wall));
+      t.dirty = true;
+    }
+}
+
 void ArbiterNode::handle_inputs(double wall) {
   // Sample time first: every timer of the decision runs on the turbine's clock.
   // Taken at the next pass, not woken for: their reception time keeps the clock right.
@@ -127,17 +137,14 @@ void ArbiterNode::handle_inputs(double wall) {
     const bool diagnostic =
         std::find(service_names().begin(), service_names().end(), c.service) != service_names().end();
     if (!c.alive && diagnostic && wall < stalled_until_) {
-      losses_to_confirm_ = true;  // decided at the end of the grace, on the liveliness then
+      // Decided at the end of the grace, on the liveliness then.
+      deferred_losses_.emplace(c.turbine_id, c.service);
       continue;
     }
+    if (c.alive) deferred_losses_.erase({c.turbine_id, c.service});
     if (!c.alive && diagnostic)
       spdlog::warn("service {} for turbine {} lost its liveliness", c.service, c.turbine_id);
-    // "*": an instance that has not named a turbine yet; it speaks for the turbines no instance named.
-    for (auto& [id, t] : turbines_)
-      if (c.turbine_id == id || (c.turbine_id == "*" && liveliness_.alive(id, c.service) == c.alive)) {
-        t.arbiter.on_service_alive(c.service, c.alive, t.clock.now(wall));
-        t.dirty = true;
-      }
+    apply_liveliness(c.turbine_id, c.service, c.alive, wall);
     if (c.alive && serves(c.turbine_id)) {
       Turbine& t = turbine(c.turbine_id);
       t.arbiter.on_service_alive(c.service, true, t.clock.now(wall));
@@ -145,16 +152,14 @@ void ArbiterNode::handle_inputs(double wall) {
     }
   }
 
-  if (losses_to_confirm_ && wall >= stalled_until_) {
-    losses_to_confirm_ = false;
-    for (auto& [id, t] : turbines_)
-      for (const auto& service : service_names())
-        if ((liveliness_.named(id, service) || liveliness_.named("*", service)) &&
-            !liveliness_.alive(id, service)) {
-          spdlog::warn("service {} for turbine {} lost its liveliness", service, id);
-          t.arbiter.on_service_alive(service, false, t.clock.now(wall));
-          t.dirty = true;
-        }
+  // Only the losses deferred are applied: one applied before the stall was logged and acted on then.
+  if (!deferred_losses_.empty() && wall >= stalled_until_) {
+    for (const auto& [turbine_id, service] : deferred_losses_) {
+      if (liveliness_.alive(turbine_id, service)) continue;
+      spdlog::warn("service {} for turbine {} lost its liveliness", service, turbine_id);
+      apply_liveliness(turbine_id, service, false, wall);
+    }
+    deferred_losses_.clear();
   }
 
   std::vector<windfdi::InertiaEstimate> inertia;
@@ -252,10 +257,7 @@ void ArbiterNode::run() {
     publish_configurations(now);
     config_out_.assert_liveliness();
     health_.set_streams_of(faults_, health_in_, inertia_, pitch_, acks_, config_out_);
-    if (limit_.refused() != refusals_reported_ && health_.due(now)) {
-      refusals_reported_ = limit_.refused();
-      health_.set_state(windfdi::SERVICE_OK, limit_.describe());
-    }
+    health_.report_refusals(limit_, now);
     health_.tick(now);
   }
   std::lock_guard<std::mutex> lock(step_mutex_);

@@ -5,7 +5,9 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ControlConfiguration.h"
@@ -66,7 +68,7 @@ class ArbiterNode {
   static constexpr double kStallGrace = 2.0;  ///< s
   double last_pass_ = 0.0;                    ///< wall time the loop last ran
   double stalled_until_ = -1e300;
-  bool losses_to_confirm_ = false;
+  std::set<std::pair<std::string, std::string>> deferred_losses_;  ///< (instance's turbine, service)
   /// The first revision of every turbine: the start time in ms since the Unix epoch, so that a restarted
   /// arbiter's revisions continue above the ones it published before (from 1 again, the farm store took
   /// them for ones it had stored, keyed by turbine, arbiter and revision, and dropped them).
@@ -75,13 +77,15 @@ class ArbiterNode {
   /// Whether the turbine is this arbiter's: selected (--turbine) and within --max-turbines.
   bool serves(const std::string& id);
   void handle_inputs(double now);
+  /// Tells the turbines an instance of `service` speaks for that it is alive or lost.
+  void apply_liveliness(const std::string& instance_turbine, const std::string& service, bool alive,
+                        double wall);
   void publish_configurations(double now);
 
   CommonOptions common_;
   TurbineSelection served_;  ///< common_.turbines, parsed once (serves() runs per sample)
   TurbineLimit limit_;
   ForeignReports foreign_reports_;
-  uint64_t refusals_reported_ = 0;
   ArbiterConfig config_;
   NodeOptions options_;
   bus::Participant participant_;
