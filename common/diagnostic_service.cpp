@@ -4,11 +4,13 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <map>
 
 #include "app.hpp"
 #include "deploy_dir.hpp"
+#include "lidar_frames.hpp"
 #include "replay.hpp"
 #include "service_node.hpp"
 
@@ -109,24 +111,13 @@ struct InputPresence {
   uint32_t seen = 0, absent = 0;
 };
 
-// The newest LIDAR frame of a turbine, merged into its frame samples while it is fresh.
-struct LidarState {
-  double v_upper = kNaN, v_lower = kNaN, t = -1e300;
-  bool valid = false;
-};
-constexpr double kLidarStale = 1.0;  // s of sample time without a LIDAR frame before it counts as lost
-
 int run_node(const ServiceSpec& spec, const CommonOptions& common) {
   DiagnosticNode node(common, spec.name);
   std::map<std::string, std::unique_ptr<TurbineDiagnoser>> turbines;
-  std::map<std::string, LidarState> lidar;
+  std::map<std::string, LidarFrames> lidar;
   if (spec.wants_lidar)
     node.subscribe_lidar([&](const std::string& id, const windfdi::LidarFrame& f) {
-      auto& l = lidar[id];
-      l.v_upper = f.v_upper();
-      l.v_lower = f.v_lower();
-      l.t = f.t();
-      l.valid = (f.valid_mask() & 3u) == 3u;
+      if (std::isfinite(f.t())) lidar[id].add({f.t(), f.v_upper(), f.v_lower(), (f.valid_mask() & 3u) == 3u});
     });
   const EstimatePublisher publish = spec.make_publisher ? spec.make_publisher(node.participant()) : nullptr;
   spdlog::info("{} running{}", spec.name, common.turbines.empty() ? " for every turbine" : "");
@@ -141,9 +132,10 @@ int run_node(const ServiceSpec& spec, const CommonOptions& common) {
     FrameSample s = sample;
     if (spec.wants_lidar) {
       const auto it = lidar.find(id);
-      if (it != lidar.end() && it->second.valid && s.t - it->second.t < kLidarStale) {
-        s.lidar_v_upper = it->second.v_upper;
-        s.lidar_v_lower = it->second.v_lower;
+      const LidarFrames::Frame* l = it == lidar.end() ? nullptr : it->second.at(s.t);
+      if (l && l->valid) {
+        s.lidar_v_upper = l->v_upper;
+        s.lidar_v_lower = l->v_lower;
       } else {
         s.lidar_v_upper = s.lidar_v_lower = kNaN;
         s.valid_mask &= ~kValidLidar;

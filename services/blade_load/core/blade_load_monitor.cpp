@@ -92,8 +92,16 @@ bool BladeLoadMonitor::update(const FrameSample& sample, bool gap, std::vector<F
   // Steep-surface gate on the low-passed pitch (lambda of the last delayed LIDAR value; none before the
   // first), closed too while an input of the model is suspect.
   gate_.update(table_, lidar_.lambda(), pitch, suspects_.update(s));
-  if (model_ok)
+  if (model_ok) {
     adaptation_.add_sample(lidar_.shear(), lidar_.lambda(), (pitch[0] + pitch[1] + pitch[2]) / 3.0);
+  } else if (model_[0]->size() > 0) {
+    // The model's windows stay whole, as the gauges' do: lost samples restart both, but the delayed LIDAR
+    // values fall in the hole for a while after, and a model window across it averaged each blade over
+    // other azimuths than its gauge window did. The cross-blade mean ratio then raised false steps on
+    // healthy gauges of a service that had lost 3 s of samples (a starved CI machine).
+    for (auto& m : model_) m->reset();
+    est_.model_valid = {false, false, false};
+  }
   if (validity_.lidar(t, model_ok, events)) {
     // Fall back to sensor-only (cross-blade) monitoring until the LIDAR is back.
     for (auto& m : model_) m->reset();
