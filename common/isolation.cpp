@@ -35,8 +35,13 @@ const std::vector<Signature>& signature_table() {
        "the energy balance takes the rotor's speed (for Cp) and acceleration from the generator speed", 40.0},
       {"generator_speed_sensor", "*", "sensor_bias", "rotor_speed_sensor",
        "the drive-train observer places part of a generator-speed error on the rotor-speed bias", 40.0},
+      // sensor_bias confirms a pitch-sensor fault only on a static offset or gain of (pitch - reference),
+      // which no Table 1 actuator fault has (static gain 1): with both reports standing the sensor is the
+      // root whichever came first. pitch_diag read a 1.06 deg pitch-sensor bias as a critical leak 0.2 s
+      // after its onset, sensor_bias confirmed the bias 13 s later, and the leak stopped the turbine (suite
+      // seed 60, the example 2 MW turbine).
       {"pitch_sensor_i", "*", "pitch_diag", "pitch_actuator_i",
-       "the measured pitch is the identified actuator output"},
+       "the measured pitch is the identified actuator output", 30.0, true},
       {"pitch_sensor_i", "*", "blade_load", "blade_moment_sensor_i",
        "the blade's load model takes its pitch"},
       {"pitch_actuator_i", "*", "sensor_bias", "pitch_sensor_i",
@@ -116,11 +121,16 @@ std::vector<Verdict> isolate(const std::vector<Report>& reports, const Isolation
       const Signature* row = s == r ? nullptr : row_for(S, R);
       const double lead = row && row->lead > 0.0 ? row->lead : c.lead;
       if (!row || R.t_detected < S.t_detected - lead) continue;  // R came long before: not S's echo
-      if (explains(R, S)) {
-        // Each explains the other: the one seen first is the root; a sensor wins a tie.
-        const bool s_first = S.t_detected < R.t_detected || (S.t_detected == R.t_detected &&
-                                                             S.component.find("sensor") != std::string::npos);
-        if (!s_first) continue;
+      const Signature* back = row_for(R, S);
+      if (back && S.t_detected >= R.t_detected - (back->lead > 0.0 ? back->lead : c.lead)) {
+        // Each explains the other: a row that outranks the other decides; else the one seen first is the
+        // root, a sensor winning a tie.
+        const bool s_root =
+            row->outranks != back->outranks
+                ? row->outranks
+                : S.t_detected < R.t_detected ||
+                      (S.t_detected == R.t_detected && S.component.find("sensor") != std::string::npos);
+        if (!s_root) continue;
       }
       out[r] = {true, S.component + " " + S.fault, row->why};
       break;

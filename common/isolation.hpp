@@ -19,6 +19,9 @@ struct Signature {
   /// s the responder may be detected before its root by this row (0: IsolationConfig::lead). A slow root
   /// (ice, confirmed by its inertia after minutes) explains a fast responder that saw it first.
   double lead = 0.0;
+  /// Where this row and the reverse one both hold (each report explains the other), this row's root wins
+  /// even when it was detected after its responder (evidence the reverse path cannot produce).
+  bool outranks = false;
 };
 
 /// The table (documented in deploy/arbiter/DECISION_TABLE.md "Isolation"; every row is a unit test).

@@ -182,7 +182,7 @@ void Arbiter::apply(Cause& cause, double now, Configuration& cfg) {
     // no other class on this actuator for class_settle_time. Short of that, the reversible derate.
     const bool stop_class = e.fault == "hydraulic_leakage";
     if (stop_class && (cause.latched || (rivals.empty() && cause.raised && stop_severity(e.severity) &&
-                                         now - cause.severity_since >= config_.stop_confirm_time))) {
+                                         now - cause.settled_since() >= config_.stop_confirm_time))) {
       cause.latched = true;
       demand(cfg.mode, Mode::kSafeStop);
       reason("mode=safe_stop");
@@ -207,7 +207,7 @@ void Arbiter::apply(Cause& cause, double now, Configuration& cfg) {
     const bool critical_confirmed =
         e.fault == "ice_accretion" &&
         (cause.latched || (cause.raised && e.severity == "critical" &&
-                           now - cause.severity_since >= config_.stop_confirm_time));
+                           now - cause.settled_since() >= config_.stop_confirm_time));
     if (critical_confirmed) {
       cause.latched = true;
       demand(cfg.ice_mode, IceMode::kStop);
@@ -241,7 +241,7 @@ void Arbiter::apply(Cause& cause, double now, Configuration& cfg) {
   // Any other critical report latches once it has held for stop_confirm_time (an actuator's latches only with
   // the stop it settled into, above: an uncertain critical leak stays reversible).
   if (!starts_with(e.component, "pitch_actuator_") && cause.raised && e.severity == "critical" &&
-      now - cause.severity_since >= config_.stop_confirm_time)
+      now - cause.settled_since() >= config_.stop_confirm_time)
     cause.latched = true;
 }
 
@@ -284,6 +284,11 @@ Configuration Arbiter::evaluate(double now) {
   const auto verdicts = isolation::isolate(reports, config_.isolation);
   for (std::size_t i = 0; i < acting_causes.size(); ++i) {
     Cause& c = *acting_causes[i];
+    // A stop's clock runs from when the cause became a root: a leak that was explained by its blade's
+    // pitch-sensor bias until that cleared had held its severity for minutes, and would have stopped the
+    // turbine the moment the bias's clear_hold ran out.
+    if (c.secondary && !verdicts[i].secondary) c.primary_since = now;
+    c.secondary = verdicts[i].secondary;
     if (verdicts[i].secondary && !c.latched)
       cfg.reasons.push_back({c.event.source, c.event.component, c.event.fault,
                              "secondary: explained by " + verdicts[i].explained_by + " (not acted on)"});

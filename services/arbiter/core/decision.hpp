@@ -116,6 +116,10 @@ class Arbiter {
     double cleared_at = 0.0;      ///< arbiter time of the clear
     double severity_since = 0.0;  ///< arbiter time from which the report has held its present severity
     bool latched = false;         ///< a confirmed stop (or critical fault): acts until acknowledged
+    bool secondary = false;       ///< at the last evaluation, explained by another report
+    double primary_since = 0.0;   ///< arbiter time from which it has not been secondary
+    /// Arbiter time from which it has held its severity as a root cause: the clock of a stop.
+    double settled_since() const { return std::max(severity_since, primary_since); }
   };
   bool acting(const Cause& c, double now) const;
   void apply(Cause& c, double now, Configuration& cfg);

@@ -467,6 +467,50 @@ TEST(Isolated, AnActuatorFaultLongAfterASpeedFaultIsItsOwnRoot) {
   EXPECT_EQ(a.evaluate(100.0 + ArbiterConfig{}.stop_confirm_time).mode, Mode::kSafeStop);
 }
 
+TEST(Isolated, ALeakReadOnAPitchSensorBiasNeverStopsAndOneThatOutlastsItStopsOnlyAfterItsOwnWait) {
+  // GIVEN suite seed 60's timeline: a 1.06 deg bias on pitch sensor 1 at 1650 s, read by pitch_diag as a
+  // critical leak (detected 1650.2 s, raised 1653.5 s), confirmed by sensor_bias at 1664.56 s, cleared at
+  // 1795.62 s
+  for (const bool leak_outlasts : {false, true}) {
+    Arbiter a;
+    auto leak = fault("pitch_diag", "pitch_actuator_1", "hydraulic_leakage", "critical", 1.0);
+    leak.t_detected = 1650.2;
+    auto bias = fault("sensor_bias", "pitch_sensor_1", "sensor_bias", "fault", -1.098);
+    bias.t_detected = 1663.56;
+    bool stopped = false;
+    double stop_at = 0.0;
+    for (double t = 1653.5; t < 2100.0; t += 0.5) {
+      if (t == 1653.5) a.on_fault(leak, t);
+      if (t == 1665.0) a.on_fault(bias, t);
+      if (t == 1796.0) {
+        bias.raised = false;
+        a.on_fault(bias, t);
+      }
+      if (!leak_outlasts && t == 1830.0) {  // pitch_diag clears it once the blade is no longer held
+        leak.raised = false;
+        a.on_fault(leak, t);
+      }
+      const auto c = a.evaluate(t);
+      if (c.mode == Mode::kSafeStop && !stopped) stopped = true, stop_at = t;
+      if (t >= 1665.0 && t < 1796.0) {
+        // THEN while the bias stands it is the root: the corrected pitch, the leak secondary
+        EXPECT_TRUE(c.use_corrected_pitch[0]) << t;
+        EXPECT_TRUE(has_reason(c, "secondary: explained by pitch_sensor_1 sensor_bias")) << t;
+      }
+    }
+    // AND a leak that clears soon after is never a stop (it stopped the turbine at 1743.55 s), while one that
+    // stays stops stop_confirm_time after the bias's clear_hold ran out, not at once
+    if (!leak_outlasts) {
+      EXPECT_FALSE(stopped) << stop_at;
+    } else {
+      const double primary = 1796.0 + ArbiterConfig{}.clear_hold;
+      EXPECT_TRUE(stopped);
+      EXPECT_GE(stop_at, primary + ArbiterConfig{}.stop_confirm_time);
+      EXPECT_LE(stop_at, primary + ArbiterConfig{}.stop_confirm_time + 1.0);
+    }
+  }
+}
+
 TEST(Isolated, ThreeBladeSensorsAtOnceAreOneCommonCause) {
   Arbiter a;
   const char* cls[] = {"sensor_abrupt", "sensor_abrupt", "sensor_drift"};
