@@ -59,6 +59,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s) {
                         "shared_alpha",
                         "short_max_alpha",
                         "past_short_evidence",
+                        "rename_evidence",
                         "max_tracking_error",
                         "startup_settle",
                         "context_hold",
@@ -131,6 +132,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s) {
   c.shared_alpha = s.get_number("shared_alpha", c.shared_alpha, 0.0, 1.0);
   c.short_max_alpha = s.get_number("short_max_alpha", c.short_max_alpha, 1.0, 1.5);
   c.past_short_evidence = s.get_number("past_short_evidence", c.past_short_evidence, 0.0, 1e4);
+  c.rename_evidence = s.get_number("rename_evidence", c.rename_evidence, 0.0, 1e4);
   c.max_tracking_error = s.get_number("max_tracking_error", c.max_tracking_error, 0.0, 180.0);
   c.startup_settle = s.get_number("startup_settle", c.startup_settle, 0.0, 3600.0);
   c.context_hold = s.get_number("context_hold", c.context_hold, 0.0, 3600.0);
@@ -258,9 +260,18 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) 
       cls_.fault_class = "none";  // too early on the longer path, or a ramp not yet named
   }
   const std::string& cls = cls_.fault_class;
+  // A raised class is renamed only on evidence against it, not because another fits a little better: with
+  // little excitation (the benchmark's high air content at fine pitch in a lull, the blade derated) the
+  // bank's best model wandered to pump wear for 24 s, and the arbiter's answer to the uncertain class
+  // (degraded mode) moved the pitch 10 deg.
+  bool renaming_settled = true;
+  if (!raised_.empty() && cls != "none" && cls != raised_ && cfg_->rename_evidence > 0.0)
+    for (std::size_t k = 1; k < sig.size(); ++k)
+      if (sig[k].name == raised_)
+        renaming_settled = id_.evidence_against_signature(static_cast<int>(k) - 1) >= cfg_->rename_evidence;
   // Confirmation: the same class for confirm_time of excited data (none while settling after a start or
   // hold).
-  if (t < decide_from_) {
+  if (t < decide_from_ || !renaming_settled) {
     candidate_ = "none";
     pending_ = 0.0;
   } else if (cls != candidate_ || std::abs(cls_.alpha - candidate_alpha_) > cfg_->alpha_settle) {

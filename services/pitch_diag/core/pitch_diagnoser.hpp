@@ -47,21 +47,25 @@ struct PitchDiagConfig {
   double past_short_evidence = 9.0;  ///< while the bank's memory is stretched (a slow swing, eq 20 failing),
                                      ///< a point past short_max_alpha counts as past it only with this
                                      ///< evidence against the shorter path's signature (sigma^2; 9: 3 sigma)
-  double max_tracking_error = 5.0;   ///< deg; |reference - pitch| above it means the actuator is at its rate
+  double rename_evidence = 100.0;  ///< bank: a raised class is renamed (another class confirmed in its place)
+                                   ///< only with this evidence against the raised class's signature (sigma^2;
+                                   ///< 100: 10 sigma, four times what evidence_min asks against the healthy
+                                   ///< actuator: wrong renamings passed 25). 0: off
+  double max_tracking_error = 5.0;  ///< deg; |reference - pitch| above it means the actuator is at its rate
                                     ///< limit (a safe stop's jump to feather): the linear model does not hold
                                     ///< and nothing is identified. Healthy lag 1 deg at 10 deg/s; 0 disables
-  double startup_settle = 30.0;  ///< s of sample time after the first sample (a start or a restart on a
-                                 ///< running turbine) and after a sequence gap before any class counts
-                                 ///< towards confirmation: the bank's evidence is still young (a healthy
-                                 ///< actuator read as a leak at 4.5 s, and 3.8 s after a restart)
-  double context_hold = 10.0;    ///< s of sample time after the inputs' context changed (another service
-                                 ///< raised or cleared a fault on an input; the arbiter reconfigured) during
-                                 ///< which every blade is held: the controller's transient is not a fault
-  double hold_settle = 10.0;     ///< s after a hold ends before a class counts again (5 bank memories)
-  double stuck_time = 0.2;       ///< s of an exactly repeated pitch measurement that is a stuck sensor: the
-                                 ///< blade is held (a stuck sensor is not a slow actuator). 0 disables
-  double pitch_min = -5.0;       ///< deg; pitch or reference below it is rejected
-  double pitch_max = 95.0;       ///< deg; above it is rejected
+  double startup_settle = 30.0;     ///< s of sample time after the first sample (a start or a restart on a
+                                    ///< running turbine) and after a sequence gap before any class counts
+                                    ///< towards confirmation: the bank's evidence is still young (a healthy
+                                    ///< actuator read as a leak at 4.5 s, and 3.8 s after a restart)
+  double context_hold = 10.0;       ///< s of sample time after the inputs' context changed (another service
+                               ///< raised or cleared a fault on an input; the arbiter reconfigured) during
+                               ///< which every blade is held: the controller's transient is not a fault
+  double hold_settle = 10.0;  ///< s after a hold ends before a class counts again (5 bank memories)
+  double stuck_time = 0.2;    ///< s of an exactly repeated pitch measurement that is a stuck sensor: the
+                              ///< blade is held (a stuck sensor is not a slow actuator). 0 disables
+  double pitch_min = -5.0;    ///< deg; pitch or reference below it is rejected
+  double pitch_max = 95.0;    ///< deg; above it is rejected
 };
 
 /// Loads the pitch_diag keys of `section` (unknown keys and out-of-range values are ConfigErrors).
