@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "deploy_dir.hpp"
+#include "network_emulation.hpp"
 #include "turbine_filter.hpp"
 #include "yaml_config.hpp"
 
@@ -114,7 +115,7 @@ Participant::Participant(const ParticipantOptions& options) : domain_(options.do
   const char* no_precheck = std::getenv("WINDFDI_SECURITY_NO_PRECHECK");
   if (secure_ && !(no_precheck && std::string(no_precheck) == "1"))
     validate_security_files(security, options.domain);
-  use_udp_without_shm_room(qos, options.name);
+  if (!emulate_network(qos, options.name)) use_udp_without_shm_room(qos, options.name);
   participant_ = factory->create_participant(options.domain, qos);
   if (!participant_ && secure_)
     throw ConfigError(security.certificate.empty() ? options.security_dir : security.certificate, 0, "",

@@ -22,6 +22,16 @@ turbines, NaN / infinite / 1e308 samples of WT03, reports and health with unknow
 turbines, ids of 200 bytes and strings of --huge bytes. Reported: every process's resident memory before and
 after, which ended, what was raised on the real turbines, safe stops, unknown turbines in the farm store.
 
+  reliability.py network [--cases loss10,loss30,down] [--hold S] [--outage S] [--work DIR] [--json FILE]
+                          [--require]
+
+A lossy or partitioned network (every process's UDP transport drops what it sends: WINDFDI_NETWORK_EMULATION,
+common/dds/network_emulation.hpp; shared memory off, so that every message crosses it): "lossP" drops P % of
+the messages at random for --hold s, "down" all of them for --outage s. Reported per case: which services the
+farm store showed lost and how long until all were back, the faults kept, what was raised, safe stops, how
+long the arbiter's configuration was not the normal one, and (over the run) reports the services logged that
+the store lacks and configurations applied out of order.
+
 Processes: plant, the five diagnostic services, arbiter (primary, strength 100), standby (strength 10), farm.
 Everything runs as real DDS participants on a private domain (loopback discovery), the plant in closed loop at
 --rate times real time (default 4); logs and the store go to --work (default a temporary directory).
@@ -78,7 +88,7 @@ def scenario_yaml(turbines, duration):
 class Farm:
     """The processes of a small farm, each restartable; every log of every incarnation is kept."""
 
-    def __init__(self, work, rate, turbines, max_turbines=None, filtered=False):
+    def __init__(self, work, rate, turbines, max_turbines=None, filtered=False, network=False):
         self.work, self.rate = work, rate
         # --max-turbines for every process (a deployment sets it to the farm's size); None: the default.
         self.max_turbines = max_turbines
@@ -96,7 +106,21 @@ class Farm:
         for var in ("FASTRTPS_DEFAULT_PROFILES_FILE", "FASTDDS_DEFAULT_PROFILES_FILE", "ROS_DISCOVERY_SERVER",
                     "FASTDDS_ENVIRONMENT_FILE", "WINDFDI_QOS_FILE"):
             self.env.pop(var, None)
+        # Every process follows this file's "loss P" or "down" (network_emulation.hpp); no file: no loss.
+        self.network_file = os.path.join(work, "network") if network else None
+        if self.network_file:
+            self.env["WINDFDI_NETWORK_EMULATION"] = self.network_file
         self.procs, self.incarnations = {}, {}
+
+    def set_network(self, text):
+        """The emulated network from now on: "loss P", "down", or None (no loss)."""
+        if text is None:
+            if os.path.exists(self.network_file):
+                os.remove(self.network_file)
+            return
+        with open(self.network_file + ".new", "w") as f:
+            f.write(text + "\n")
+        os.replace(self.network_file + ".new", self.network_file)
 
     def argv(self, name):
         if name == "plant":
@@ -290,19 +314,23 @@ def run_case(farm, name, case, settle):
     elif lost_at:
         back_at = wait_for(lambda: health_after(farm, health_name, lost_at, False), BACK_TIMEOUT)
     time.sleep(settle)
+    return dict({"process": name, "case": case,
+                 "lost_after_s": round(lost_at - t0, 2) if lost_at else None,
+                 "back_after_s": round(back_at - t1, 2) if back_at else None}, **judged_since(farm, t0, before))
+
+
+def judged_since(farm, t0, before):
+    """What the store shows from `t0` on against the faults active `before`: whether they are all still
+    raised, raises of faults that were not raised before, safe stops."""
     after = active_faults(farm)
-    # What the store received from the kill on: raises of faults that were not raised before, safe stops.
     new_raises = sorted({f"{t} {c} {f} ({s})" for t, c, f, s in farm.query(
         "SELECT turbine_id, component, fault, source FROM fault_events WHERE state = 'raised' AND received_at > ?",
         (t0,)) if (t, c, f) not in before})
     stops = farm.query("SELECT DISTINCT turbine_id FROM configurations WHERE mode = 'safe_stop' AND received_at > ?",
                        (t0,))
     return {
-        "process": name, "case": case,
-        "lost_after_s": round(lost_at - t0, 2) if lost_at else None,
-        "back_after_s": round(back_at - t1, 2) if back_at else None,
         "faults_before": sorted(" ".join(k) for k in before),
-        "faults_kept": sorted(before) == sorted(after & before) and before <= after,
+        "faults_kept": before <= after,
         "faults_after": sorted(" ".join(k) for k in after),
         "new_raises": new_raises,
         "safe_stops": sorted(s[0] for s in stops),
@@ -322,7 +350,7 @@ def check_row(row):
         problems.append("faults before: " + ", ".join(row["faults_before"]) + "; after: "
                         + ", ".join(row["faults_after"]))
     if row["new_raises"]:
-        problems.append("raised by the restart: " + ", ".join(row["new_raises"]))
+        problems.append("raised by the case: " + ", ".join(row["new_raises"]))
     if row["safe_stops"]:
         problems.append("safe stop of " + ", ".join(row["safe_stops"]))
     return problems
@@ -382,7 +410,8 @@ def start_farm(a):
     """The farm of `a.turbines` turbines with every process, its injected faults raised and `a.warmup` s more."""
     work = a.work or tempfile.mkdtemp(prefix="windfdi_reliability_")
     os.makedirs(work, exist_ok=True)
-    farm = Farm(work, a.rate, a.turbines, getattr(a, "max_turbines", None), getattr(a, "filtered", False))
+    farm = Farm(work, a.rate, a.turbines, getattr(a, "max_turbines", None), getattr(a, "filtered", False),
+                a.command == "network")
     for n in PROCESSES:
         if not os.access(farm.argv(n)[0], os.X_OK):
             print(f"reliability: {farm.argv(n)[0]} not built (deploy/scripts/setup.sh)", file=sys.stderr)
@@ -402,6 +431,32 @@ def start_farm(a):
     return farm
 
 
+def run_cases(a, cases, run_one, check, describe, header, line):
+    """Starts the farm, runs `run_one(farm, case)` for each case and prints `describe(row, problems)`, stops the
+    farm, and reports the run (report_run: `header`, `line`); the exit code (2: the farm did not start)."""
+    rows, problems = [], {}
+    farm = None
+    try:
+        farm = start_farm(a)
+        if farm is None:
+            return 2
+        for case in cases:
+            dead = farm.exited()
+            if dead:
+                print("reliability: exited on their own: " + ", ".join(dead), file=sys.stderr)
+            row = run_one(farm, case)
+            rows.append(row)
+            problems[case] = check(row)
+            dead = farm.exited()
+            if dead:
+                problems[case].append("exited: " + ", ".join(dead))
+            print(describe(row, problems[case]), flush=True)
+    finally:
+        if farm:
+            farm.stop_all()
+    return report_run(farm, a, rows, problems, header, line)
+
+
 def processes(a):
     cases = [c for c in a.cases.split(",") if c]
     # NAME:CASE+CASE gives a process cases of its own (CI freezes the primary arbiter only).
@@ -413,25 +468,19 @@ def processes(a):
     if bad:
         print(f"reliability: bad --only/--cases: {bad}; processes are " + ", ".join(PROCESSES), file=sys.stderr)
         return 2
-    rows, problems = [], {}
-    farm = None
-    try:
-        farm = start_farm(a)
-        if farm is None:
-            return 2
-        for name, case in plan:
-            dead = farm.exited()
-            if dead:
-                print("reliability: exited on their own: " + ", ".join(dead), file=sys.stderr)
-            row = run_case(farm, name, case, a.settle)
-            rows.append(row)
-            problems[(name, case)] = check_row(row)
-            print(f"  {name:12s} {case:6s} lost {fmt(row['lost_after_s'])} s, back {fmt(row['back_after_s'])} s"
-                  + ("" if not problems[(name, case)] else ": " + "; ".join(problems[(name, case)])),
-                  flush=True)
-    finally:
-        if farm:
-            farm.stop_all()
+    return run_cases(a, plan, lambda farm, c: run_case(farm, c[0], c[1], a.settle), check_row,
+                     lambda r, p: f"  {r['process']:12s} {r['case']:6s} lost {fmt(r['lost_after_s'])} s, back "
+                                 f"{fmt(r['back_after_s'])} s" + ("" if not p else ": " + "; ".join(p)),
+                     "| process | case | shown lost after s | shown back after s | faults kept | raised by it | "
+                     "safe stops |\n|---|---|---|---|---|---|---|",
+                     lambda r: f"| {r['process']} | {r['case']} | {fmt(r['lost_after_s'])} | "
+                                f"{fmt(r['back_after_s'])} | {'yes' if r['faults_kept'] else 'NO'} | "
+                                f"{', '.join(r['new_raises']) or 'none'} | {', '.join(r['safe_stops']) or 'none'} |")
+
+
+def report_run(farm, a, rows, problems, header, line):
+    """The end of a run of cases: the table (`header` its first two lines, `line` a row's), the reports the
+    services logged that the store lacks, configurations applied out of order, the JSON; the exit code."""
     # Every report a service logged as published is in the store (source, turbine, component, fault, state);
     # duplicates are kept apart only by their sample time, which the log does not give, so this counts kinds.
     stored = {tuple(r) for r in farm.query(
@@ -439,12 +488,9 @@ def processes(a):
     missing = sorted({" ".join(e) for e in published_by_services(farm) if e not in stored})
     out_of_order = configurations_out_of_order(farm)
     print()
-    print("| process | case | shown lost after s | shown back after s | faults kept | raised by it | safe stops |")
-    print("|---|---|---|---|---|---|---|")
+    print(header)
     for r in rows:
-        print(f"| {r['process']} | {r['case']} | {fmt(r['lost_after_s'])} | {fmt(r['back_after_s'])} | "
-              f"{'yes' if r['faults_kept'] else 'NO'} | {', '.join(r['new_raises']) or 'none'} | "
-              f"{', '.join(r['safe_stops']) or 'none'} |")
+        print(line(r))
     print()
     print(f"reports the services logged that the store lacks: {len(missing)}" + "".join("\n  " + m for m in missing))
     print(f"configurations the plant applied out of order: {len(out_of_order)}"
@@ -505,6 +551,81 @@ def hostile(a):
     return 1 if a.require and problems else 0
 
 
+def not_normal_seconds(farm, since, until):
+    """Seconds of [since, until] (wall) in which some turbine's configuration from the primary arbiter (the
+    one the plant follows) was not the normal mode, in the store."""
+    rows = farm.query("SELECT turbine_id, received_at, mode, reasons FROM configurations WHERE received_at <= ? "
+                      "AND arbiter_id = 'primary' ORDER BY received_at", (until,))
+    state, spans, start = {}, 0.0, None
+    for turbine, at, mode, _ in rows:
+        state[turbine] = mode
+        bad = any(m != "normal" for m in state.values())
+        if at >= since and bad and start is None:
+            start = at
+        elif at >= since and not bad and start is not None:
+            spans += at - start
+            start = None
+        elif at < since:
+            start = since if bad else None
+    if start is not None:
+        spans += until - start
+    return round(spans, 1)
+
+
+def run_network_case(farm, case, hold, outage, settle):
+    """One network case: loss of P % for `hold` s, or an outage of `outage` s; returns the row of the report."""
+    before = active_faults(farm)
+    t0 = time.time()
+    if case == "down":
+        farm.set_network("down")
+        time.sleep(outage)
+    else:
+        farm.set_network(f"loss {int(case[4:])}")
+        time.sleep(hold)
+    farm.set_network(None)
+    t1 = time.time()
+    lost = sorted({r[0] for r in farm.query(
+        "SELECT service FROM health_events WHERE event = 'lost' AND received_at > ?", (t0,))})
+
+    def all_back():
+        if not lost:
+            return time.time()
+        latest = {}
+        for service, turbine, event, at in farm.query(
+                "SELECT service, turbine_id, event, received_at FROM health_events WHERE received_at > ? "
+                "ORDER BY id", (t0,)):
+            latest[(service, turbine)] = (event, at)
+        if any(e == "lost" for e, _ in latest.values()):
+            return None
+        return max(at for _, at in latest.values())
+    back_at = wait_for(all_back, BACK_TIMEOUT)
+    time.sleep(settle)
+    # The injected faults derate a blade (pump wear) and correct a pitch (bias), in normal mode: seconds in
+    # which a turbine's mode was not normal are what the network did.
+    return dict({"case": case, "seconds": round(t1 - t0, 1), "services_lost": lost,
+                 "back_after_s": round(back_at - t1, 1) if back_at and lost else (0.0 if not lost else None),
+                 "not_normal_s": not_normal_seconds(farm, t0, time.time())}, **judged_since(farm, t0, before))
+
+
+def network(a):
+    cases = [c for c in a.cases.split(",") if c]
+    bad = [c for c in cases if c != "down" and not re.fullmatch(r"loss([0-9]|[1-9][0-9]|100)", c)]
+    if bad:
+        print(f"reliability: bad --cases {bad}: lossP (P in 0..100) or down", file=sys.stderr)
+        return 2
+    return run_cases(a, cases, lambda farm, c: run_network_case(farm, c, a.hold, a.outage, a.settle),
+                     lambda row: check_row(dict(row, process="network", lost_after_s=0.0)),
+                     lambda r, p: f"  {r['case']:7s} {r['seconds']:.0f} s: lost "
+                                 f"{', '.join(r['services_lost']) or 'none'}, back {fmt(r['back_after_s'])} s, "
+                                 f"not normal {r['not_normal_s']:.1f} s" + ("" if not p else ": " + "; ".join(p)),
+                     "| case | seconds | services shown lost | all back after s | faults kept | raised | safe stops | "
+                     "a turbine not normal s |\n|---|---|---|---|---|---|---|---|",
+                     lambda r: f"| {r['case']} | {r['seconds']:.0f} | {', '.join(r['services_lost']) or 'none'} | "
+                                f"{fmt(r['back_after_s'])} | {'yes' if r['faults_kept'] else 'NO'} | "
+                                f"{', '.join(r['new_raises']) or 'none'} | {', '.join(r['safe_stops']) or 'none'} | "
+                                f"{r['not_normal_s']:.1f} |")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="command", required=True)
@@ -522,7 +643,11 @@ def main():
                    help="every process but the plant also given --turbine WT01..WTnn (the farm's turbines)")
     h.add_argument("--report-keys", type=int, default=0,
                    help="the peer also sends canonical FaultReports under this many distinct keys a round")
-    for q in (p, h):
+    n = sub.add_parser("network", help="a lossy network, then an outage")
+    n.add_argument("--cases", default="loss10,loss30,down", help="lossP (P %% of messages dropped) or down")
+    n.add_argument("--hold", type=float, default=60.0, help="wall seconds of each loss case")
+    n.add_argument("--outage", type=float, default=10.0, help="wall seconds of the outage")
+    for q in (p, h, n):
         q.add_argument("--rate", type=float, default=4.0, help="plant speed-up (default 4)")
         q.add_argument("--turbines", type=int, default=3, help="turbines of the farm (3..10)")
         q.add_argument("--warmup", type=float, default=60.0, help="wall seconds before the first case")
@@ -538,7 +663,7 @@ def main():
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(1))
     if a.command == "hostile" and a.max_turbines == 0:
         a.max_turbines = None
-    return processes(a) if a.command == "processes" else hostile(a)
+    return {"processes": processes, "hostile": hostile, "network": network}[a.command](a)
 
 
 if __name__ == "__main__":

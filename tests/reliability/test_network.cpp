@@ -1,0 +1,81 @@
+// Reliability: the campaign's network emulation does what it says (WINDFDI_NETWORK_EMULATION): an outage
+// carries nothing, not even discovery, and a lossy link still carries the reliable frame stream.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "process.hpp"
+#include "test_util.hpp"
+
+using namespace windfdi::test;
+
+namespace {
+
+class NetworkEmulation : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::filesystem::create_directories(dir);
+    env["WINDFDI_NETWORK_EMULATION"] = file;
+  }
+  void TearDown() override {
+    std::filesystem::remove_all(dir);
+    remove_stale_shm(domain);
+  }
+  void set_network(const std::string& text) { std::ofstream(file) << text << "\n"; }
+  /// A listener and a publisher of `blocks` blocks of 10 samples per turbine; the listener's last line.
+  nlohmann::json exchange(const std::string& ids, int blocks, int turbines, int readers,
+                          const char* timeout) {
+    ChildProcess listener({bin("windfdi-test-peer"), "listen", "--expect",
+                           std::to_string(turbines * blocks * 10), "--timeout", timeout},
+                          env, "listen");
+    ChildProcess publisher({bin("windfdi-test-peer"), "publish", "--ids", ids, "--blocks",
+                            std::to_string(blocks), "--rate", "20", "--readers", std::to_string(readers)},
+                           env, "publish");
+    publisher.wait(std::chrono::seconds(60));
+    listener.wait(std::chrono::seconds(60));
+    EXPECT_NE(publisher.stderr_text().find("network emulation"), std::string::npos)
+        << publisher.stderr_text();
+    const auto lines = json_lines(listener.stdout_text());
+    if (lines.empty()) {
+      ADD_FAILURE() << listener.stderr_text();
+      return {};
+    }
+    return lines.back();
+  }
+  int domain = private_domain(19);
+  std::string dir =
+      std::filesystem::temp_directory_path().string() + "/windfdi-network-" + std::to_string(getpid());
+  std::string file = dir + "/network";
+  std::map<std::string, std::string> env = dds_env(domain);
+};
+
+TEST_F(NetworkEmulation, AnOutageCarriesNothingAndALossyLinkStillCarriesTheStream) {
+  // GIVEN the network down: a publisher that does not wait for readers sends 30 blocks
+  set_network("down");
+  const auto down = exchange("WT01", 30, 1, 0, "6");
+  // THEN the listener received nothing and discovered nobody
+  EXPECT_EQ(down.value("total", -1), 0) << down.dump();
+  EXPECT_EQ(down.value("participants_discovered", -1), 0) << down.dump();
+  // WHEN 20 % of every process's messages are lost (data, heartbeats, acknowledgements, discovery)
+  set_network("loss 20");
+  const auto lossy = exchange("WT01,WT02,WT03", 100, 3, 1, "20");
+  // THEN the reliable stream still arrives from the moment the reader's side matched (discovery messages are
+  // lost too, and the volatile blocks sent before that are not the reader's): at least 90 % of every
+  // turbine's samples from its first one received (a keep-last 8 history may be overwritten before a repair
+  // on a slow machine; the readers see that as a sequence gap)
+  EXPECT_GE(lossy.value("participants_discovered", 0), 1) << lossy.dump();
+  for (const char* id : {"WT01", "WT02", "WT03"}) {
+    const auto& first = lossy["first"];
+    ASSERT_TRUE(first.contains(id)) << id << " " << lossy.dump();
+    const int from = first[id].get<int>();
+    EXPECT_LT(from, 1000) << id << " " << lossy.dump();
+    EXPECT_GE(lossy["counts"].value(id, 0), (1000 - from) * 9 / 10) << id << " " << lossy.dump();
+  }
+  std::cout << "[ measured ] at 20 % loss: " << lossy.value("total", 0) << " of 3000 samples, first "
+            << lossy["first"].dump() << ", gaps " << lossy["gaps"].dump() << "\n";
+}
+
+}  // namespace
