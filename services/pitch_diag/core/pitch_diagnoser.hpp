@@ -51,6 +51,9 @@ struct PitchDiagConfig {
                                    ///< only with this evidence against the raised class's signature (sigma^2;
                                    ///< 100: 10 sigma, four times what evidence_min asks against the healthy
                                    ///< actuator: wrong renamings passed 25). 0: off
+  double clear_evidence = 25.0;    ///< bank: a raised class clears only with this evidence against its own
+                                   ///< signature (sigma^2; 25: 5 sigma), besides alpha below alpha_clear for
+                                   ///< clear_time: not on the initial model a hold leaves. 0: off
   double max_tracking_error = 5.0;  ///< deg; |reference - pitch| above it means the actuator is at its rate
                                     ///< limit (a safe stop's jump to feather): the linear model does not hold
                                     ///< and nothing is identified. Healthy lag 1 deg at 10 deg/s; 0 disables
