@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <set>
 
 namespace windfdi::pitch_diag {
@@ -159,10 +158,8 @@ void BladeDiagnoser::emit(double t, const std::string& fault, bool raised, std::
   e.raised = raised;
   e.severity = raised ? raised_severity_ : "warning";
   e.t_detected = raised_detected_;
-  const auto& paths = cfg_->classifier.signatures;
-  double alpha = 0.0;
-  for (std::size_t k = 1; k < paths.size(); ++k)
-    if (paths[k].name == fault) alpha = cls_.path_alpha[k - 1];
+  const int path = path_of(fault);
+  const double alpha = path < 0 ? 0.0 : cls_.path_alpha[static_cast<std::size_t>(path)];
   e.statistic = alpha;
   e.size = alpha;
   e.threshold = raised ? cfg_->classifier.alpha_detect : cfg_->alpha_clear;
@@ -174,6 +171,13 @@ void BladeDiagnoser::emit(double t, const std::string& fault, bool raised, std::
     e.detail += "; ambiguous: the same dynamics are " + other + fmt(" at alpha %.2f", other_alpha, 0.0);
   }
   events.push_back(e);
+}
+
+int BladeDiagnoser::path_of(const std::string& fault) const {
+  const auto& sig = cfg_->classifier.signatures;
+  for (std::size_t k = 1; k < sig.size(); ++k)
+    if (sig[k].name == fault) return static_cast<int>(k) - 1;
+  return -1;
 }
 
 void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) {
@@ -224,9 +228,7 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) 
     // On a slow swing (the bank's memory stretched) only the lag is well observed, and points about the
     // pump-wear signature fit almost alike: the estimate of an abrupt pump wear sat at leak alpha 0.62 for 6
     // s. There the point must be past the signature beyond doubt as well.
-    int short_path = -1;
-    for (std::size_t k = 1; k < sig.size(); ++k)
-      if (sig[k].name == short_class) short_path = static_cast<int>(k) - 1;
+    const int short_path = path_of(short_class);
     const bool beyond_doubt = id_.information_weight() >= 1.0 ||
                               id_.evidence_against_signature(short_path) >= cfg_->past_short_evidence;
     const bool past_short = alpha_short > cfg_->short_max_alpha && raised_ != short_class && beyond_doubt;
@@ -267,11 +269,9 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) 
   // little excitation (the benchmark's high air content at fine pitch in a lull, the blade derated) the
   // bank's best model wandered to pump wear for 24 s, and the arbiter's answer to the uncertain class
   // (degraded mode) moved the pitch 10 deg.
-  bool renaming_settled = true;
-  if (!raised_.empty() && cls != "none" && cls != raised_ && cfg_->rename_evidence > 0.0)
-    for (std::size_t k = 1; k < sig.size(); ++k)
-      if (sig[k].name == raised_)
-        renaming_settled = id_.evidence_against_signature(static_cast<int>(k) - 1) >= cfg_->rename_evidence;
+  const bool renaming_settled = raised_.empty() || cls == "none" || cls == raised_ ||
+                                cfg_->rename_evidence <= 0.0 ||
+                                id_.evidence_against_signature(path_of(raised_)) >= cfg_->rename_evidence;
   // Confirmation: the same class for confirm_time of excited data (none while settling after a start or
   // hold).
   if (t < decide_from_ || !renaming_settled) {
@@ -308,14 +308,10 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) 
   // bank's initial (healthy) model had cleared a raised pump wear after the arbiter's lost-service fallback
   // that followed a 10 s network outage (the reliability campaign), its estimate at exactly 11.11 rad/s, 0.6.
   if (!raised_.empty()) {
-    double alpha_raised = 0.0;
-    double against_raised = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 1; k < sig.size(); ++k)
-      if (sig[k].name == raised_) {
-        alpha_raised = cls_.path_alpha[k - 1];
-        against_raised = id_.evidence_against_signature(static_cast<int>(k) - 1);
-      }
-    const bool refuted = cfg_->clear_evidence <= 0.0 || against_raised >= cfg_->clear_evidence;
+    const int path = path_of(raised_);
+    const double alpha_raised = path < 0 ? 0.0 : cls_.path_alpha[static_cast<std::size_t>(path)];
+    const bool refuted =
+        cfg_->clear_evidence <= 0.0 || id_.evidence_against_signature(path) >= cfg_->clear_evidence;
     clear_pending_ = alpha_raised < cfg_->alpha_clear && refuted ? clear_pending_ + dt : 0.0;
     if (clear_pending_ >= cfg_->clear_time) {
       emit(t, raised_, false, events);

@@ -117,6 +117,8 @@ class BladeDiagnoser {
 
  private:
   void emit(double t, const std::string& fault, bool raised, std::vector<FaultEvent>& events);
+  /// The fault path (0-based: signatures[path + 1]) of a class, or -1.
+  int path_of(const std::string& fault) const;
 
   const PitchDiagConfig* cfg_;
   std::string component_;
