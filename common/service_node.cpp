@@ -31,7 +31,7 @@ void DiagnosticNode::take_context() {
   for (const auto& r : reports) {
     // Checked before the turbine is admitted: a foreign report takes no place among the turbines followed.
     const FaultEvent e = bus::to_event(r);
-    if (!foreign_report_reason(e).empty() || !limit_.admit(r.turbine_id())) continue;
+    if (foreign_reports_.refuse(e) || !limit_.admit(r.turbine_id())) continue;
     auto& tracker = contexts_.try_emplace(r.turbine_id(), service_).first->second;
     if (tracker.on_fault(e))
       spdlog::info("{}: {} {} {} by {}: inputs that rely on it are suspect", r.turbine_id(), r.component(),

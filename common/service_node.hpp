@@ -19,6 +19,7 @@
 #include "hop_trace.hpp"
 #include "input_context.hpp"
 #include "replay.hpp"
+#include "turbine_limit.hpp"
 
 namespace windfdi {
 
@@ -64,6 +65,7 @@ class DiagnosticNode {
   bus::Reader<windfdi::ControlConfiguration> configurations_;
   // Every map below and the service's own per-turbine state hold admitted turbines only.
   TurbineLimit limit_;
+  ForeignReports foreign_reports_;
   std::map<std::string, InputContextTracker> contexts_;
   std::map<std::string, std::string> last_control_;  // turbine -> the control content last seen
   void take_context();

@@ -43,8 +43,8 @@ class TurbineLimit {
 };
 
 /// Drops FaultReports no windfdi service could have sent (foreign_report_reason), counting them and logging
-/// at the 1st, 10th, 100th... one; the arbiter and the farm monitor check a report with it before its turbine
-/// is admitted, so a foreign report takes no place among the turbines followed.
+/// at the 1st, 10th, 100th... one; the services, the arbiter and the farm monitor check a report with it
+/// before its turbine is admitted, so a foreign report takes no place among the turbines followed.
 class ForeignReports {
  public:
   /// True when `e` is foreign (and then counted and, at a power of ten, logged).
