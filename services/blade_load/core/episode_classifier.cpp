@@ -4,12 +4,15 @@
 namespace windfdi::blade_load {
 
 void EpisodeClassifier::update(double t, bool active, bool confirmed, const std::string& cls,
-                               std::vector<Transition>& out) {
-  if (active) {
+                               std::vector<Transition>& out, bool known) {
+  // Windows refilling after lost samples read as a quiet spell: a raised step "returned" and, confirmed again
+  // a revolution later, was renamed sensor_intermittent (20 samples lost every 5-20 s).
+  if (active || !known) {
     quiet_since_ = -1.0;
   } else if (quiet_since_ < 0) {
     quiet_since_ = t;
   }
+  if (!active && !known) return;
   if (raised_.empty()) {
     if (confirmed) {
       raised_ = cls;

@@ -34,7 +34,10 @@ struct Transition {
 class EpisodeClassifier {
  public:
   explicit EpisodeClassifier(const EpisodeConfig& c = {}) : c_(c) {}
-  void update(double t, bool active, bool confirmed, const std::string& cls, std::vector<Transition>& out);
+  /// `known` false: no test could judge now (the windows refill after lost samples): no evidence either way,
+  /// so no quiet spell runs through it.
+  void update(double t, bool active, bool confirmed, const std::string& cls, std::vector<Transition>& out,
+              bool known = true);
   const std::string& raised() const { return raised_; }
   bool returned() const { return returned_; }
   double raised_at() const { return raised_at_; }

@@ -281,14 +281,16 @@ void ResidualTests::tick(double t, double revolution_time, const BladeChannels& 
     // about 45 s after its onset and was then re-classified as intermittent.
     B.exceeding = best_c >= 0 || (!B.raised.empty() && above_onset);
     const int c = conf_c >= 0 ? conf_c : best_c;
+    bool known = false;
+    for (int k = 0; k < kChannels; ++k) known |= std::isfinite(tv[b][k]) && standalone(k, lidar_ok);
     blade_decision(b, t, B.exceeding, conf_c >= 0, c >= 0 ? tv[b][c] : 0.0, c >= 0 ? crit_[c] : 0.0, c,
-                   residual_size(e, b, c), e, lidar_ok, events);
+                   residual_size(e, b, c), e, lidar_ok, known, events);
   }
 }
 
 void ResidualTests::blade_decision(int b, double t, bool outlier, bool outlier_confirmed, double stat,
                                    double critical, int channel, double size, const BladeEstimates& e,
-                                   bool lidar_ok, std::vector<FaultEvent>& events) {
+                                   bool lidar_ok, bool known, std::vector<FaultEvent>& events) {
   BladeState& B = blades_[b];
   const bool drift = B.drift_firing;
   // The episode's evidence: the outlier test, and for a drift (raised or not yet) the moving-window test.
@@ -330,7 +332,7 @@ void ResidualTests::blade_decision(int b, double t, bool outlier, bool outlier_c
   }
   std::vector<Transition> tr;
   const double raised_at = B.episode.raised_at();
-  B.episode.update(t, active, confirmed, cls, tr);
+  B.episode.update(t, active, confirmed, cls, tr, known);
   for (const auto& x : tr) {
     FaultEvent ev;
     ev.t = t;

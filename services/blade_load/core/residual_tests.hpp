@@ -113,8 +113,10 @@ class ResidualTests {
   double t_value(int blade, int channel, double x) const;  // NaN when not learned or x is not available
   void follow_noise(const BladeChannels& x);
   void drift_test(bool lidar_ok);
+  // `known`: some test could judge blade b now (false while its windows refill).
   void blade_decision(int b, double t, bool active, bool confirmed, double stat, double crit, int channel,
-                      double size, const BladeEstimates& e, bool lidar_ok, std::vector<FaultEvent>& events);
+                      double size, const BladeEstimates& e, bool lidar_ok, bool known,
+                      std::vector<FaultEvent>& events);
 
   DetectionConfig c_;
   HealthyChannels healthy_;

@@ -13,7 +13,8 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
                         "block_time", "test_time", "reference_gap", "reference_time", "efficiency_step",
                         "efficiency_clear_ratio", "efficiency_clear_time", "min_power_share", "max_pitch",
                         "min_generator_speed", "max_torque", "max_generator_speed", "max_power",
-                        "sample_time", "iced_inertia_ratio", "context_lookback"});
+                        "sample_time", "iced_inertia_ratio", "context_lookback",
+                        "max_bridged_gap"});
   // clang-format on
   DiagnoserConfig c;
   c.sample_time = s.get_number("sample_time", c.sample_time, 1e-4, 1.0);
@@ -49,6 +50,7 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
   c.estimate_rate = s.get_number("estimate_rate", c.estimate_rate, 0.01, 100.0);
   c.wind_window = s.get_number("wind_window", c.wind_window, 0.0, 60.0);
   c.context_lookback = s.get_number("context_lookback", c.context_lookback, 0.0, 3600.0);
+  c.max_bridged_gap = s.get_number("max_bridged_gap", c.max_bridged_gap, 0.0, 10.0);
   c.max_torque = s.get_number("max_torque", c.max_torque, 1.0, 1e8);
   c.max_generator_speed = s.get_number("max_generator_speed", c.max_generator_speed, 1.0, 1e4);
   c.max_power = s.get_number("max_power", c.max_power, 1.0, 1e10);
@@ -105,10 +107,16 @@ bool DriveTrainDiagnoser::update(const FrameSample& s, bool gap, std::vector<Fau
   if (aero_power_.push(fed, gap || !plausible, centre, centre_gap, aero_power)) {
     double pitch = 0.0;
     for (std::size_t i = 0; i < kBlades; ++i) pitch += centre.pitch[i] / kBlades;
+    // A short hole of lost samples leaves the block running with its span counted (ending the block on
+    // each, 20 samples lost every few seconds let no 5 s block ever close).
+    const double lost = std::round((centre.t - last_centre_t_) / c_.sample_time) - 1.0;
+    last_centre_t_ = centre.t;
+    const bool bridged = centre_gap && lost >= 1.0 && lost * c_.sample_time <= c_.max_bridged_gap + 1e-9;
     const bool forget = context_.generator_speed_suspect;
     const bool usable =
-        !forget && !centre_gap && !context_.turbine_stopped && std::isfinite(centre.rotor_speed);
-    efficiency_.update(centre.gen_torque, centre.generator_speed, aero_power, pitch, usable, forget);
+        !forget && (!centre_gap || bridged) && !context_.turbine_stopped && std::isfinite(centre.rotor_speed);
+    efficiency_.update(centre.gen_torque, centre.generator_speed, aero_power, pitch, usable, forget,
+                       bridged ? static_cast<std::size_t>(lost) : 0);
     report_efficiency(centre.t, events);
   }
   return plausible;

@@ -26,6 +26,8 @@ struct DiagnoserConfig {
   double context_lookback = 60.0;  ///< s of energy-balance blocks dropped when a speed or pitch sensor is
                                    ///< newly reported by another service (sensor_bias needs up to ~50 s)
   double sample_time = 0.01;       ///< s, the frame period (the benchmark's 100 Hz)
+  double max_bridged_gap = 0.5;    ///< s: samples lost over at most this long leave the energy balance's
+                                   ///< block running (its span counts them); a longer hole ends the block
   // Plausible measurements: beyond them a sample is rejected (counted), never fed.
   double max_torque = 2e5;             ///< N m, |generator torque| and |its reference|
   double max_generator_speed = 400.0;  ///< rad/s
@@ -73,6 +75,7 @@ class DriveTrainDiagnoser {
   AeroPowerInput aero_power_;
   InputContext context_;
   bool last_rejected_ = false;
+  double last_centre_t_ = kNaN;  // time of the last sample judged by the energy balance
   uint64_t rejected_ = 0;
   double t_ = 0.0, next_estimate_ = 0.0, converter_since_ = 0.0, efficiency_since_ = 0.0;
   bool have_estimate_ = false;

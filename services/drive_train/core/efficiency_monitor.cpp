@@ -12,20 +12,21 @@ EfficiencyMonitor::EfficiencyMonitor(const EfficiencyConfig& config, double samp
       edge_(std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(0.5 / sample_time)))) {}
 
 const EfficiencyState& EfficiencyMonitor::update(double tg, double wg, double aero_power, double pitch,
-                                                 bool usable, bool forget) {
-  t_ += dt_;
+                                                 bool usable, bool forget, std::size_t lost) {
+  t_ += dt_ * static_cast<double>(1 + lost);
   state_.changed = false;
   if (forget) blocks_.clear();
   const bool ok = usable && std::isfinite(tg) && std::isfinite(wg) && std::isfinite(aero_power) &&
                   std::isfinite(pitch) && wg > c_.min_generator_speed;
   if (!ok) {
     torque_.reset(), speed_.reset(), aero_torque_.reset(), pitch_.reset(), aero_power_.reset();
-    first_speed_.reset(), last_speeds_.clear();
+    first_speed_.reset(), last_speeds_.clear(), lost_in_block_ = 0;
     if (forget) state_.ready = false;
     return state_;
   }
   // The rotor speed from the generator's (omega_g / N): 50 times less noise than the rotor's own sensor.
   const double wr = wg / c_.gear_ratio;
+  if (torque_.n > 0) lost_in_block_ += lost;
   torque_.add(tg);
   speed_.add(wg);
   aero_torque_.add(aero_power / wr);
@@ -34,18 +35,18 @@ const EfficiencyState& EfficiencyMonitor::update(double tg, double wg, double ae
   if (first_speed_.n < edge_) first_speed_.add(wg);
   last_speeds_.push_back(wg);
   if (last_speeds_.size() > edge_) last_speeds_.pop_front();
-  if (static_cast<double>(torque_.n) * dt_ >= c_.block_time - 1e-9) close_block();
+  if (static_cast<double>(torque_.n + lost_in_block_) * dt_ >= c_.block_time - 1e-9) close_block();
   return state_;
 }
 
 void EfficiencyMonitor::discard_recent(double seconds) {
   torque_.reset(), speed_.reset(), aero_torque_.reset(), pitch_.reset(), aero_power_.reset();
-  first_speed_.reset(), last_speeds_.clear();
+  first_speed_.reset(), last_speeds_.clear(), lost_in_block_ = 0;
   for (double s = 0.0; s < seconds - 1e-9 && !blocks_.empty(); s += c_.block_time) blocks_.pop_back();
 }
 
 void EfficiencyMonitor::close_block() {
-  const double n = static_cast<double>(torque_.n);
+  const double n = static_cast<double>(torque_.n + lost_in_block_);
   const double span = n * dt_;
   // Mean speed change over the block from its two ends (each averaged over edge_ samples, centred half an
   // edge in): integrates the accelerations exactly, without differentiating a noisy speed.
@@ -64,7 +65,7 @@ void EfficiencyMonitor::close_block() {
   const bool operating =
       aero_power_.mean() >= c_.min_power_share * c_.rated_power && pitch_.mean() <= c_.max_pitch;
   torque_.reset(), speed_.reset(), aero_torque_.reset(), pitch_.reset(), aero_power_.reset();
-  first_speed_.reset(), last_speeds_.clear();
+  first_speed_.reset(), last_speeds_.clear(), lost_in_block_ = 0;
   if (!operating || !(b.rotor_side > 0.0)) return;
   blocks_.push_back(b);
   evaluate();

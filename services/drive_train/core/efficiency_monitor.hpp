@@ -52,9 +52,9 @@ class EfficiencyMonitor {
   /// One sample: measured generator torque (N m) and speed (rad/s), the turbine model's aerodynamic power
   /// (W) and the mean measured pitch (deg). `usable` false (an input suspect, missing or the sample after a
   /// gap) ends the block in progress; `forget` also forgets the blocks before (the turbine changed under
-  /// them, e.g. a suspect pitch sensor).
+  /// them, e.g. a suspect pitch sensor). `lost`: samples lost just before this one, within the block.
   const EfficiencyState& update(double gen_torque, double generator_speed, double aero_power, double pitch,
-                                bool usable, bool forget);
+                                bool usable, bool forget, std::size_t lost = 0);
   const EfficiencyState& state() const { return state_; }
   /// Drops the block in progress and the blocks of the last `seconds`: an input turned out suspect, and
   /// the blocks before its report may hold its error.
@@ -78,7 +78,8 @@ class EfficiencyMonitor {
   std::size_t edge_;  // samples averaged for the speed at each end of a block
   RunningMean torque_, speed_, aero_torque_, pitch_, aero_power_, first_speed_;
   std::deque<double> last_speeds_;
-  std::deque<Block> blocks_;  // newest last
+  std::size_t lost_in_block_ = 0;  // samples lost within the block in progress (its span counts them)
+  std::deque<Block> blocks_;       // newest last
   double t_ = 0.0, good_since_ = -1.0;
   EfficiencyState state_;
 };

@@ -72,6 +72,9 @@ struct DetectorConfig {
   double min_generator_speed = 30.0;  ///< rad/s below which the estimator is not fed (standstill)
   double min_gen_torque = 3000.0;     ///< N m; below it the turbine is not producing (stopping): not fed
   double max_pitch = 30.0;            ///< deg; above it (feathering) the power model is not trusted: not fed
+  /// s: samples lost over at most this long are bridged (the estimators fed the straight line between the
+  /// samples either side) instead of restarting a regression of `window` s (0: every gap restarts it)
+  double max_bridged_gap = 0.5;
   double speed_mismatch =
       0.05;  ///< relative |omega_g / N - omega_r| / omega_r (0.5 s low-pass) above which the
              ///< speed sensors disagree: the generator speed is suspect, not fed (0: off)
@@ -96,7 +99,8 @@ class IceDetector {
 
   /// Feeds one sample whose aerodynamic power is `aero_power` (W; the node computes it from the aerodynamic
   /// model or takes the recording's column). Returns false for a rejected sample (NaN, infinite, out of
-  /// range): counted, never fed. `gap`: samples were lost, the regressor restarts.
+  /// range): counted, never fed. `gap`: samples were lost (or the clock stepped): a hole of at most
+  /// max_bridged_gap between two fed samples is bridged, any other restarts the regression.
   bool update(const FrameSample& s, double aero_power, bool gap, std::vector<FaultEvent>& events);
   /// True once per second of sample time, with the estimate in `out`.
   bool estimate_due(InertiaOutput& out);
@@ -105,6 +109,8 @@ class IceDetector {
   /// Samples not fed because the generator speed was suspect (speed_mismatch, or another service's fault on a
   /// speed sensor): the inertia is estimated from it, so the estimate is held instead.
   uint64_t suspect_samples() const { return suspect_samples_; }
+  /// Samples lost in holes that were bridged (max_bridged_gap) rather than restarting the regression.
+  uint64_t bridged_samples() const { return bridged_; }
   void set_context(const InputContext& context) { context_ = context; }
   const InertiaEstimator& estimator() const { return estimator_; }
   /// The drop (share of J0) the fast shedding route needs now: shed_sigmas learned deviations of the fast
@@ -163,7 +169,14 @@ class IceDetector {
   uint64_t power_changes_seen_ = 0;
   double shed_last_ = -1.0;
   InputContext context_;
-  bool fed_ = false;            // the last sample was fed to the estimators
+  bool fed_ = false;  // the last sample was fed to the estimators
+  struct Fed {
+    double t = 0, generator_speed = 0, power = 0, gen_torque = 0;
+  } last_fed_;  // that sample
+  // Feeds the estimators the straight line from last_fed_ to `s` over the samples lost between them; false
+  // (nothing fed) when the hole is not whole samples of at most max_bridged_gap.
+  bool bridge(const FrameSample& s, double power);
+  uint64_t bridged_ = 0;
   double resumed_at_ = -1e300;  // sample time the estimators were last fed again after a reset
   double speed_mismatch_lp_ = 0.0;
   uint64_t suspect_samples_ = 0;  // time the last shedding was raised

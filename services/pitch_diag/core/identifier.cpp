@@ -127,7 +127,7 @@ void Identifier::restart() {
   psi2_.setZero();
 }
 
-void Identifier::update(double u, double y) {
+void Identifier::update(double u, double y, bool judged) {
   if (!started_) {
     // Level removal starts from the current operating point: u_f = y_f = 0 and the models at rest.
     started_ = true;
@@ -160,7 +160,7 @@ void Identifier::update(double u, double y) {
     }
   }
 
-  if (since_restart_ >= 4 && cfg_.pe_threshold > 0.0) {
+  if (judged && since_restart_ >= 4 && cfg_.pe_threshold > 0.0) {
     // Eq 20 on psi = M phi_u, a non-singular difference basis of the input lags u(t-1..t-4): the same PE
     // condition, but well conditioned at 100 Hz where the raw lags are nearly equal.
     const double s = pe_scale_;
@@ -178,9 +178,10 @@ void Identifier::update(double u, double y) {
     }
   }
 
-  const bool learn = excited_ && since_restart_ >= settle_samples_;
+  const bool settled = judged && since_restart_ >= settle_samples_;
+  const bool learn = excited_ && settled;
   if (cfg_.method == Method::kBank) {
-    bank_step(yf, since_restart_ >= settle_samples_);
+    bank_step(yf, settled);
   } else {
     const bool oe = cfg_.method == Method::kOeRls;
     const bool am = oe || cfg_.method == Method::kAmMifg || cfg_.method == Method::kAmRls;

@@ -71,8 +71,10 @@ class Identifier {
  public:
   explicit Identifier(const IdentifierConfig& config);
 
-  /// One valid sample: reference u(t) and measured pitch y(t) (deg).
-  void update(double u, double y);
+  /// One valid sample: reference u(t) and measured pitch y(t) (deg). `judged` false: a sample made up across
+  /// a short hole of lost samples (PitchDiagnoser's bridge): the filters, lags and models move on through it,
+  /// but nothing is learned or judged from it (no estimate, evidence or excitation).
+  void update(double u, double y, bool judged = true);
   /// The history is broken (lost or rejected samples): restart the regressor history from the next sample
   /// (the level-removal filters continue across the break), keep theta.
   void restart();

@@ -61,6 +61,9 @@ struct PitchDiagConfig {
                                     ///< running turbine) and after a sequence gap before any class counts
                                     ///< towards confirmation: the bank's evidence is still young (a healthy
                                     ///< actuator read as a leak at 4.5 s, and 3.8 s after a restart)
+  double max_bridged_gap = 0.5;     ///< s: a sequence gap this short is bridged (each blade's models move on
+                                    ///< through the straight line between the samples either side, judging
+                                    ///< nothing of it); a longer one restarts (0: every gap restarts)
   double context_hold = 10.0;       ///< s of sample time after the inputs' context changed (another service
                                ///< raised or cleared a fault on an input; the arbiter reconfigured) during
                                ///< which every blade is held: the controller's transient is not a fault
@@ -95,7 +98,7 @@ class BladeDiagnoser {
  public:
   BladeDiagnoser(const PitchDiagConfig& config, int blade);
   /// One valid sample (u reference, y measured pitch, deg).
-  void update(double u, double y) { id_.update(u, y); }
+  void update(double u, double y, bool judged = true) { id_.update(u, y, judged); }
   void set_rate_limit(double deg_per_s) { id_.set_rate_limit(deg_per_s); }
   void restart() { id_.restart(); }
   /// Held (suspect input, start-up, a context transient): nothing identified, and identification and a class
@@ -143,8 +146,9 @@ class PitchDiagnoser {
   explicit PitchDiagnoser(const PitchDiagConfig& config);
 
   /// Feeds one sample; false when a blade's pitch or reference was rejected (mask, NaN, inf, outside
-  /// pitch_min..pitch_max): counted, never fed, and that blade's regressor restarts. A sequence gap restarts
-  /// all blades (the core reads it from the sequence numbers; `gap` only repeats it).
+  /// pitch_min..pitch_max): counted, never fed, and that blade's regressor restarts. A sequence gap (the core
+  /// reads it from the sequence numbers; `gap` only repeats it) of at most max_bridged_gap is bridged on each
+  /// blade fed just before it; any other restarts the blade and its decisions wait startup_settle.
   bool update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events);
   /// True once per estimate_period of sample time, with the estimate in `out`.
   bool estimate_due(PitchEstimate& out);
@@ -152,6 +156,8 @@ class PitchDiagnoser {
   uint64_t rejected(int blade) const { return rejected_[blade]; }
   uint64_t rejected() const { return rejected_[0] + rejected_[1] + rejected_[2]; }
   uint64_t gaps() const { return gaps_; }
+  /// Samples lost in gaps that were bridged (summed over blades).
+  uint64_t bridged_samples() const { return bridged_; }
   /// Samples of blade i left out because its actuator was at its rate limit (max_tracking_error).
   uint64_t saturated(int blade) const { return saturated_[blade]; }
   /// Samples of blade i held because an input was suspect (another service's fault, a stuck pitch reading,
@@ -171,7 +177,12 @@ class PitchDiagnoser {
   SuspectHold suspects_;
   std::array<double, kBlades> last_y_{};
   std::array<int, kBlades> repeated_{};  // consecutive samples with the same pitch reading
-  uint64_t gaps_ = 0;
+  uint64_t gaps_ = 0, bridged_ = 0;
+  // The last sample fed to each blade's identifier (reference, pitch), and whether the previous sample was
+  // it.
+  std::array<double, kBlades> fed_u_{}, fed_y_{};
+  std::array<bool, kBlades> fed_{};
+  bool valid_sample(const FrameSample& s, int blade) const;
   bool have_last_ = false;
   uint64_t last_sequence_ = 0;
   double next_tick_ = 0.0;

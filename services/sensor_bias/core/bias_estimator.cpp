@@ -33,6 +33,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
                         "clear_time",
                         "filter_time",
                         "settle_time",
+                        "max_bridged_gap",
                         "reconfiguration_hold",
                         "witness_torque_share",
                         "witness_torque_min",
@@ -82,6 +83,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   c.clear_time = s.get_number("clear_time", c.clear_time, 0.0, 3600.0);
   c.filter_time = s.get_number("filter_time", c.filter_time, 0.0, 600.0);
   c.settle_time = s.get_number("settle_time", c.settle_time, 0.0, 3600.0);
+  c.max_bridged_gap = s.get_number("max_bridged_gap", c.max_bridged_gap, 0.0, 10.0);
   c.reconfiguration_hold = s.get_number("reconfiguration_hold", c.reconfiguration_hold, 0.0, 600.0);
   const double rated_torque =
       turbine.rated_power / (turbine.generator_efficiency * turbine.rated_generator_speed);
@@ -205,7 +207,12 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
     return false;
   }
   bool all_ok = true;
-  if (gap) start_ = -1.0;  // re-settle: the observers missed samples
+  // Re-settle after a long hole: the observers missed too much. A short one (a loaded host losing 20 samples
+  // every few seconds) moves the observers by a few samples' worth, well inside their noise; re-settling on
+  // each left nothing ever raised.
+  const bool long_gap = gap && !(start_ >= 0.0 && s.t > last_t_ && s.t - last_t_ <= cfg_.max_bridged_gap);
+  last_t_ = s.t;
+  if (long_gap) start_ = -1.0;
   if (start_ < 0.0) start_ = s.t;
   // A reading repeated to the last bit is a stuck sensor (a healthy one carries noise).
   const double readings[kChannels] = {s.rotor_speed, s.generator_speed, s.pitch[0], s.pitch[1], s.pitch[2]};

@@ -36,6 +36,8 @@ struct BiasConfig {
   double clear_time = 5.0;    ///< s below the clear level before it clears
   double filter_time = 0.3;   ///< s, first-order low-pass on the bias estimate before the threshold test
   double settle_time = 20.0;  ///< s after the first (or after a gap) sample before anything is raised
+  double max_bridged_gap =
+      0.5;  ///< s: a hole of lost samples at most this long does not re-settle (the observers step over it)
   double reconfiguration_hold =
       10.0;  ///< s after the blades' rate limits or the stop change: pitch judgement held
   /// Observer mode: the generator-speed witness P / (eta_g T_g) is used only while the measured torque is
@@ -213,6 +215,7 @@ class BiasEstimator {
   bool dt_init_ = false;
   std::array<bool, 3> pitch_init_{};
   double start_ = -1.0;
+  double last_t_ = -1.0;  // time of the last sample with a finite time
   std::array<double, kChannels> filtered_{};
   double filtered_diff_ = 0.0;
   double filtered_power_ = 0.0;  // W, the electrical power through the detector's low-pass (region 2 or 3)

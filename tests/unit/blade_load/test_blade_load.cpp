@@ -302,6 +302,23 @@ TEST(PlantDetection, APersistentGainStaysAbruptForMinutes) {
   }
 }
 
+TEST(PlantDetection, APersistentGainStaysAbruptThroughShortHolesOfLostSamples) {
+  // GIVEN the persistent gain above, and 0.2 s of samples lost every 7 s (a loaded host): each hole restarts
+  // the windows, which refill for a revolution with no test able to judge
+  for (uint64_t seed : {7u, 21u}) {
+    auto f = fault("blade_moment_2", "gain", 250.0);
+    f.gain = 1.1;
+    const auto r = run_plant(16.0, 0.08, 0.25, 0.0, 500, {f}, seed, config(), LoadTable::load_csv(kTable),
+                             false, SampleLosses{7.0, 0.2});
+    // THEN still one event, sensor_abrupt on blade 2: a refill is no quiet spell, so no "return" and no
+    // sensor_intermittent a revolution later (it was, 50 s after the step)
+    const std::string seq = event_sequence(r.events);
+    ASSERT_EQ(r.events.size(), 1u) << seed << ": " << seq;
+    EXPECT_EQ(r.events[0].fault, "sensor_abrupt") << seed;
+    EXPECT_EQ(r.events[0].component, "blade_moment_sensor_2") << seed;
+  }
+}
+
 TEST(PlantDetection, DriftOfOnePercentPerMinuteDetectedBeforeFivePercentAndHeld) {
   // GIVEN the sensor_drift scenario's wind and 900 N m/s (1 % of the mean load per minute) on blade 1 at 300
   // s, three turbulence seeds, 400 s of drift
@@ -818,6 +835,29 @@ TEST(ResidualTests, ALidarModelErrorOnOneBladeNeedsTheGaugesToAgreeBeforeItIsAFa
   // suite hours; sensors (the gauges' own cross-blade amplitude must agree) raises nothing.
   EXPECT_EQ(run_witness_tests(Witness::kConfirm, false), "sensor_abrupt");
   EXPECT_EQ(run_witness_tests(Witness::kSensors, false), "");
+}
+
+TEST(EpisodeClassifier, NoTestAbleToJudgeIsNoQuietSpell) {
+  EpisodeClassifier k;
+  std::vector<Transition> tr;
+  k.update(0.0, true, true, "sensor_abrupt", tr);
+  ASSERT_EQ(tr.size(), 1u);
+  tr.clear();
+  // GIVEN 6 s in which no test could judge (windows refilling after lost samples), then evidence again
+  for (double t = 1.0; t <= 7.0; t += 0.5) k.update(t, false, false, "sensor_abrupt", tr, false);
+  EXPECT_FALSE(k.returned());
+  k.update(7.5, true, true, "sensor_abrupt", tr);
+  // THEN the episode went on: no return, no intermittent
+  EXPECT_TRUE(tr.empty());
+  // ... while the same 6 s judged quiet is a return, and the evidence back a recurrence
+  EpisodeClassifier q;
+  q.update(0.0, true, true, "sensor_abrupt", tr);
+  tr.clear();
+  for (double t = 1.0; t <= 7.0; t += 0.5) q.update(t, false, false, "sensor_abrupt", tr);
+  EXPECT_TRUE(q.returned());
+  q.update(7.5, true, true, "sensor_abrupt", tr);
+  ASSERT_EQ(tr.size(), 2u);
+  EXPECT_EQ(tr[1].fault, "sensor_intermittent");
 }
 
 TEST(EpisodeClassifier, RecurrenceAfterTheWindowKeepsTheClass) {

@@ -365,6 +365,50 @@ TEST(DriveTrainDiagnoser, EfficiencyStepIsRaisedWithinAMinuteAndEstimated) {
   }
 }
 
+// The events of the plant (TI 0.12) through the diagnoser losing 20 samples every 5 s (a loaded host).
+std::vector<FaultEvent> run_with_losses(double wind, double seconds,
+                                        const std::vector<plant::FaultSpec>& faults, uint64_t seed,
+                                        double max_bridged_gap) {
+  plant::TurbineScenario t;
+  t.id = "WT01";
+  t.wind.mean = wind;
+  t.wind.turbulence_intensity = 0.12;
+  plant::TurbineSim sim(shipped().turbine, t, faults, seed, 100.0);
+  const AeroModel aero(shipped().turbine);
+  DiagnoserConfig c = shipped().config;
+  c.max_bridged_gap = max_bridged_gap;
+  DriveTrainDiagnoser d(c, aero);
+  std::vector<FaultEvent> events;
+  bool gap = false;
+  for (long k = 0; k < std::lround(seconds * 100.0); ++k) {
+    const FrameSample s = sim.step();
+    if (k % 500 >= 480) {
+      gap = true;
+      continue;
+    }
+    d.update(s, gap, events);
+    gap = false;
+  }
+  return events;
+}
+
+TEST(DriveTrainDiagnoser, AnEfficiencyStepIsFoundThroughShortHolesOfLostSamples) {
+  // GIVEN the efficiency step of the test above at 16 m/s, 20 samples lost every 5 s
+  const auto events = run_with_losses(16.0, 420.0, {efficiency(300.0)}, 46, 0.5);
+  // THEN efficiency_loss is raised within 60 s of it, and nothing before
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events.front().fault, "efficiency_loss");
+  EXPECT_GE(events.front().t, 300.0);
+  EXPECT_LE(events.front().t, 360.0);
+  // ... where ending the balance's block on every hole let no block close: nothing raised
+  EXPECT_TRUE(run_with_losses(16.0, 420.0, {efficiency(300.0)}, 46, 0.0).empty());
+  // AND 15 healthy minutes with the same losses raise nothing, at 8 and 20 m/s
+  for (const double wind : {8.0, 20.0}) {
+    const auto healthy = run_with_losses(wind, 900.0, {}, 50 + static_cast<uint64_t>(wind), 0.5);
+    EXPECT_TRUE(healthy.empty()) << wind << " m/s: " << healthy.front().fault << " at " << healthy.front().t;
+  }
+}
+
 TEST(DriveTrainDiagnoser, AHealthyRunRaisesNothingAndTheDetectorsRan) {
   for (const double wind : {8.0, 12.0, 16.0, 20.0}) {
     // GIVEN 15 minutes of a healthy turbine

@@ -122,27 +122,34 @@ struct PlantRun {
   double shed_threshold = 0.0;  // the fast route's drop threshold at the end (share of J0)
 };
 
+/// Samples lost on the way: `count` consecutive samples every `every` s (0: none), as a loaded host loses
+/// them.
+struct Losses {
+  double every = 0.0;
+  int count = 20;
+};
+
 PlantRun run_turbine(const plant::TurbineScenario& t, int seconds, bool model_power,
                      const std::vector<plant::FaultSpec>& faults, uint64_t seed, const YamlSection& config,
-                     const InputContext& context, const TurbineParams& p);
+                     const InputContext& context, const TurbineParams& p, Losses losses = {});
 
 PlantRun run_plant(double wind, int seconds, bool model_power,
                    const std::vector<plant::FaultSpec>& faults = {}, double ice = 0.0, uint64_t seed = 7,
                    const YamlSection& config = defaults(), const InputContext& context = {},
-                   const TurbineParams& p = TurbineParams{}) {
+                   const TurbineParams& p = TurbineParams{}, Losses losses = {}) {
   plant::TurbineScenario t;
   t.id = "WT01";
   t.wind.mean = wind;
   t.wind.turbulence_intensity = 0.12;
   t.wind.shear_variation = 0.05;
   t.ice_mass = ice;
-  return run_turbine(t, seconds, model_power, faults, seed, config, context, p);
+  return run_turbine(t, seconds, model_power, faults, seed, config, context, p, losses);
 }
 
 /// One turbine of the plant as a scenario describes it (its id is part of its random streams).
 PlantRun run_turbine(const plant::TurbineScenario& t, int seconds, bool model_power,
                      const std::vector<plant::FaultSpec>& faults, uint64_t seed, const YamlSection& config,
-                     const InputContext& context, const TurbineParams& p) {
+                     const InputContext& context, const TurbineParams& p, Losses losses) {
   AeroModel aero(p);
   plant::TurbineSim sim(p, t, faults, seed, 100.0);
   const DetectorConfig cfg = load_detector_config(config, p);
@@ -152,17 +159,27 @@ PlantRun run_turbine(const plant::TurbineScenario& t, int seconds, bool model_po
   PlantRun r;
   InertiaOutput o;
   int n = 0;
+  const int lose_every = static_cast<int>(std::lround(losses.every * 100.0));
+  bool gap = false;
   for (int k = 0; k < seconds * 100; ++k) {
     FrameSample s = sim.step();
+    if (lose_every > 0 && k % lose_every >= lose_every - losses.count) {
+      gap = true;  // lost on the way: the next sample that arrives follows a gap
+      continue;
+    }
     double power = sim.truth().aero_power;
+    bool centre_gap = gap;
     if (model_power) {
       FrameSample centre;
-      bool gap = false;
       s.aero_power = kNaN;
-      if (!aero_power.push(s, false, centre, gap, power)) continue;
+      if (!aero_power.push(s, gap, centre, centre_gap, power)) {
+        gap = false;
+        continue;
+      }
       s = centre;
     }
-    det.update(s, power, false, r.events);
+    gap = false;
+    det.update(s, power, centre_gap, r.events);
     if (det.estimate_due(o) && s.t > 300.0 && o.inertia > 0.0) {
       const double e = o.inertia / sim.truth().inertia - 1.0;
       r.rms += e * e;
@@ -208,6 +225,30 @@ TEST(IceDetector, AHealthyHourRaisesNothing) {
     EXPECT_GT(r.estimates, 3000) << wind;
     EXPECT_EQ(r.rejected, 0u) << wind;
   }
+}
+
+TEST(IceDetector, AShortHoleOfLostSamplesIsBridgedNotARestart) {
+  // GIVEN the accretion ramp below with 20 samples lost every 30 s (a loaded host: the CI's ice pipeline
+  // test lost 20 samples at a time and saw no ice in its whole scenario)
+  auto f = plant::FaultSpec::make("WT01", "rotor", "ice_accretion", 300).with_value(2500);
+  f.ramp_in = 600;
+  const Losses losses{30.0, 20};
+  const auto bridged = run_plant(10.0, 1500, true, {f}, 0.0, 7, defaults(), {}, TurbineParams{}, losses);
+  // THEN ice_accretion is raised during the ramp as without losses
+  ASSERT_FALSE(bridged.events.empty());
+  EXPECT_EQ(bridged.events.front().fault, "ice_accretion");
+  EXPECT_GT(bridged.events.front().t, 300.0);
+  EXPECT_LT(bridged.events.front().t, 1200.0);
+  // ... where restarting the 120 s regression on every hole (max_bridged_gap 0) never estimates at all
+  const auto restarted =
+      run_plant(10.0, 1500, true, {f}, 0.0, 7, YamlSection(YAML::Load("max_bridged_gap: 0"), "x.yaml"), {},
+                TurbineParams{}, losses);
+  EXPECT_TRUE(restarted.events.empty()) << restarted.events.front().fault;
+  EXPECT_EQ(restarted.estimates, 0);
+  // AND a healthy hour with the same losses raises nothing
+  const auto healthy = run_plant(12.0, 3600, true, {}, 0.0, 112, defaults(), {}, TurbineParams{}, losses);
+  EXPECT_TRUE(healthy.events.empty()) << healthy.events.front().fault;
+  EXPECT_GT(healthy.estimates, 3000);
 }
 
 TEST(IceDetector, AccretionRampIsFlaggedAndSized) {

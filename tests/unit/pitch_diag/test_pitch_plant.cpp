@@ -203,6 +203,42 @@ TEST(PitchDiagPlant, BurstsOfLostSamplesRaiseNothing) {
                               << events.front().t;
 }
 
+// The first event of a plant run at 16 m/s with `fault` on blade 1 from 60 s, losing 20 samples every 10 s.
+std::vector<FaultEvent> run_with_losses(const std::string& fault, const PitchDiagConfig& config) {
+  plant::TurbineScenario t;
+  t.id = "WT01";
+  t.wind.mean = 16.0;
+  t.wind.turbulence_intensity = 0.12;
+  t.wind.shear_variation = 0.03;
+  plant::TurbineSim sim(TurbineParams{}, t, {actuator_fault(0, fault, 60.0)}, 4161, 100.0);
+  PitchDiagnoser diag{config};
+  std::vector<FaultEvent> events;
+  for (long k = 0; k < 200 * 100; ++k) {
+    const FrameSample& s = sim.step();
+    if (k % 1000 >= 980) continue;  // lost
+    diag.update(s, false, events);
+  }
+  EXPECT_GT(diag.gaps(), 15u);
+  return events;
+}
+
+TEST(PitchDiagPlant, AFaultIsFoundThroughShortHolesOfLostSamples) {
+  // GIVEN 20 samples lost every 10 s (a loaded host), pump wear or high air content on blade 1 from 60 s
+  for (const std::string fault : {"pump_wear", "high_air_content"}) {
+    const auto events = run_with_losses(fault, PitchDiagConfig{});
+    // THEN it is raised, named right, within 10 s, and nothing else
+    ASSERT_FALSE(events.empty()) << fault;
+    EXPECT_EQ(events.front().fault, fault);
+    EXPECT_EQ(events.front().component, "pitch_actuator_1");
+    EXPECT_LT(events.front().t, 70.0) << fault;
+    for (const auto& e : events) EXPECT_EQ(e.fault, fault) << e.component << " at " << e.t;
+    // ... where restarting on every hole, with startup_settle before any decision, never raised it
+    PitchDiagConfig restart;
+    restart.max_bridged_gap = 0.0;
+    EXPECT_TRUE(run_with_losses(fault, restart).empty()) << fault;
+  }
+}
+
 TEST(PitchDiagPlant, AHealthyHourRaisesNothing) {
   // GIVEN one hour of the healthy plant in region 3, where the pitch works hardest
   const auto r = run_plant(16.0, 3600.0, {}, 73);

@@ -467,6 +467,54 @@ TEST(ObserverMode, StepBiasOfTwoPercentFlaggedInTimeAsAnOffsetWithItsSize) {
   }
 }
 
+// The events of the observer on the plant (TI 0.1) losing 20 samples every 5 s, as a loaded host loses them.
+std::vector<FaultEvent> run_with_losses(double wind, double seconds,
+                                        const std::vector<plant::FaultSpec>& faults, uint64_t seed,
+                                        double max_bridged_gap) {
+  TurbineParams p;
+  plant::TurbineScenario t;
+  t.id = "WT01";
+  t.wind.mean = wind;
+  t.wind.turbulence_intensity = 0.1;
+  plant::TurbineSim sim(p, t, faults, seed, 100.0);
+  BiasConfig c = config(Mode::kObserver);
+  c.max_bridged_gap = max_bridged_gap;
+  BiasEstimator est(c, load_gain_file(c.drive_train_gain_file), load_gain_file(c.pitch_gain_file), p);
+  std::vector<FaultEvent> events;
+  bool gap = false;
+  for (int k = 0; k < static_cast<int>(seconds * 100); ++k) {
+    FrameSample s = sim.step();
+    if (k % 500 >= 480) {
+      gap = true;
+      continue;
+    }
+    s.aero_torque = kNaN;
+    s.aero_power = kNaN;
+    est.update(s, gap, events);
+    gap = false;
+  }
+  return events;
+}
+
+TEST(ObserverMode, AFaultIsFoundThroughShortHolesOfLostSamples) {
+  // GIVEN a 1 deg bias on pitch sensor 2 from 150 s at 16 m/s, 20 samples lost every 5 s
+  const auto events = run_with_losses(16.0, 200.0, {bias("pitch_2", 1.0, 150.0)}, 24, 0.5);
+  // THEN it is raised within 5 s, and nothing else
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events.front().component, "pitch_sensor_2");
+  EXPECT_EQ(events.front().fault, "sensor_bias");
+  EXPECT_LE(events.front().t, 155.0);
+  for (const auto& e : events) EXPECT_EQ(e.component, "pitch_sensor_2") << e.fault << " at " << e.t;
+  // ... where re-settling (20 s) on every hole never raised it
+  EXPECT_TRUE(run_with_losses(16.0, 200.0, {bias("pitch_2", 1.0, 150.0)}, 24, 0.0).empty());
+  // AND half an hour of a healthy turbine with the same losses raises nothing, at 8 and 14 m/s
+  for (double wind : {8.0, 14.0}) {
+    const auto healthy = run_with_losses(wind, 1800.0, {}, 108, 0.5);
+    EXPECT_TRUE(healthy.empty()) << wind << " m/s: " << healthy.front().component << " "
+                                 << healthy.front().fault << " at " << healthy.front().t;
+  }
+}
+
 TEST(ObserverMode, AnAbruptLeakIsNoPitchSensorBias) {
   // GIVEN an abrupt hydraulic leak on blade 3's actuator from 150 s (a slow actuator, static gain 1), at six
   // winds from 13.7 to 18 m/s, six seeds each
