@@ -59,8 +59,14 @@ bool BladeLoadMonitor::update(const FrameSample& sample, bool gap, std::vector<F
   // Lost samples leave a hole in the LIDAR history as long as the gap: a frozen service or plant raised
   // lidar sensor_invalid on every turbine when it resumed (the reliability campaign).
   const double lidar_grace = lidar_.delay() + cfg_.model.max_lidar_age;
+  // A short hole leaves the gauge windows running: they fit the harmonics by azimuth, so a few missing
+  // samples cost a few samples' weight. Restarting them on every hole, 20 samples lost every 5 s kept the
+  // windows refilling most of the time and delayed a drift by 19 s. The LIDAR model's windows restart by
+  // themselves where the hole reaches the delayed LIDAR values (below).
+  const bool short_gap = gap && t > last_t_ && t - last_t_ <= cfg_.max_bridged_gap;
+  last_t_ = t;
   if (gap) {
-    reset_windows();
+    if (!short_gap) reset_windows();
     validity_.restart_lidar(t, lidar_grace);
   }
   // The LIDAR history is kept through a standstill: resuming with a stale one read as a lost LIDAR.

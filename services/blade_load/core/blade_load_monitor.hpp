@@ -35,6 +35,8 @@ struct MonitorConfig {
   LoadModelConfig model;         ///< LIDAR load model (eqs 1, 9)
   double estimate_rate = 10.0;   ///< Hz, estimates and the per-sample outlier test
   double min_rotor_speed = 0.5;  ///< rad/s; below it (standstill, idling) nothing is estimated
+  double max_bridged_gap = 0.5;  ///< s: a hole of lost samples at most this long leaves the gauge windows
+                                 ///< running (they fit by azimuth); a longer one restarts every window
   ValidityConfig validity;       ///< max_moment, invalid_time (input_validity.hpp)
   DetectionConfig detection;  ///< the outlier and drift tests, confirmation, isolation (residual_tests.hpp)
   LearningConfig learning;    ///< the healthy statistics and the noise level (healthy_channels.hpp)
@@ -138,6 +140,7 @@ class BladeLoadMonitor {
   TableAdaptation adaptation_;
   double next_tick_ = -1.0;
   double rev_angle_ = 0.0, last_azimuth_ = kNaN;
+  double last_t_ = kNaN;  // time of the last sample
   double rev_time_ = 0.0, last_rev_t_ = -1.0;
   bool due_ = false;
   BladeLoadOutput out_;

@@ -27,6 +27,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "advection_time",
                         "estimate_rate",
                         "min_rotor_speed",
+                        "max_bridged_gap",
                         "max_moment",
                         "invalid_time",
                         "significance",
@@ -81,6 +82,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   h.min_rcond = y.get_number("min_rcond", h.min_rcond, 1e-12, 0.5);
   h.dt = 1.0 / y.get_number("sample_rate", 100.0, 1.0, 10000.0);
   c.min_rotor_speed = y.get_number("min_rotor_speed", c.min_rotor_speed, 0.05, 5.0);
+  c.max_bridged_gap = y.get_number("max_bridged_gap", c.max_bridged_gap, 0.0, 10.0);
   // The window holds `revolutions` at the slowest monitored speed.
   h.capacity = std::max(h.window_samples,
                         static_cast<int>(2.0 * M_PI * h.revolutions / (c.min_rotor_speed * h.dt)) + 2);
