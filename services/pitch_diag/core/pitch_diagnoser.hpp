@@ -47,6 +47,10 @@ struct PitchDiagConfig {
   double past_short_evidence = 9.0;  ///< while the bank's memory is stretched (a slow swing, eq 20 failing),
                                      ///< a point past short_max_alpha counts as past it only with this
                                      ///< evidence against the shorter path's signature (sigma^2; 9: 3 sigma)
+  double past_short_young_time = 30.0;  ///< s after the identification (re)started from the healthy model
+                                        ///< (a start, a hold) during which a point past short_max_alpha
+                                        ///< needs rename_evidence: a young estimate overshoots past the
+                                        ///< pump-wear signature
   double rename_evidence = 100.0;  ///< bank: a raised class is renamed (another class confirmed in its place)
                                    ///< only with this evidence against the raised class's signature (sigma^2;
                                    ///< 100: 10 sigma, four times what evidence_min asks against the healthy
@@ -110,6 +114,8 @@ class BladeDiagnoser {
   }
   /// No class counts towards confirmation before sample time t (the identification runs on).
   void decide_from(double t) { decide_from_ = std::max(decide_from_, t); }
+  /// The identification (re)started from the healthy model at sample time t: a start, or a held sample.
+  void identification_restarted(double t) { identifying_since_ = t; }
   /// A decision tick at time t (s): classification, confirmation and hysteresis.
   void tick(double t, double dt, std::vector<FaultEvent>& events);
 
@@ -134,6 +140,7 @@ class BladeDiagnoser {
   std::string raised_severity_;
   double raised_detected_ = 0.0;
   double decide_from_ = -1e300;         // sample time before which no class is confirmed
+  double identifying_since_ = -1e300;   // sample time the identification last started from the healthy model
   double excited_since_healthy_ = 0.0;  // s of excited data since the blade last looked healthy
   double shared_reached_after_ = -1.0;  // that excited time when it first reached the pump-wear point
   double half_reached_after_ = -1.0;    // and when it first reached half of shared_alpha
