@@ -32,6 +32,14 @@ farm store showed lost and how long until all were back, the faults kept, what w
 long the arbiter's configuration was not the normal one, and (over the run) reports the services logged that
 the store lacks and configurations applied out of order.
 
+  reliability.py soak [--hours 24] [--turbines 20] [--rate R] [--sample S] [--retention H] [--work DIR]
+                       [--json FILE] [--require]
+
+The farm (up to 20 turbines) runs --hours of sample time; the resident memory of every process and the farm
+store's size are taken every --sample s. Reported: memory in the first and last third of the run (medians) and
+its peak, the store against what its retention (the farm monitor's --estimate-retention, wall hours) holds,
+what was raised besides the injected faults, safe stops, processes that ended.
+
 Processes: plant, the five diagnostic services, arbiter (primary, strength 100), standby (strength 10), farm.
 Everything runs as real DDS participants on a private domain (loopback discovery), the plant in closed loop at
 --rate times real time (default 4); logs and the store go to --work (default a temporary directory).
@@ -88,8 +96,10 @@ def scenario_yaml(turbines, duration):
 class Farm:
     """The processes of a small farm, each restartable; every log of every incarnation is kept."""
 
-    def __init__(self, work, rate, turbines, max_turbines=None, filtered=False, network=False):
+    def __init__(self, work, rate, turbines, max_turbines=None, filtered=False, network=False, duration=100000,
+                 farm_args=()):
         self.work, self.rate = work, rate
+        self.farm_args = list(farm_args)  # more options of the farm monitor
         # --max-turbines for every process (a deployment sets it to the farm's size); None: the default.
         self.max_turbines = max_turbines
         # Every process but the plant given the farm's turbines (--turbine WT01..WTnn, a DDS content filter).
@@ -99,7 +109,7 @@ class Farm:
         self.db = os.path.join(work, "farm.sqlite")
         self.scenario = os.path.join(work, "scenario.yaml")
         with open(self.scenario, "w") as f:
-            f.write(scenario_yaml(turbines, 100000))
+            f.write(scenario_yaml(turbines, duration))
         self.env = dict(os.environ)
         self.env["WINDFDI_DOMAIN"] = str(int(os.environ.get("WINDFDI_DOMAIN", 150 + os.getpid() % 50)))
         self.env["WINDFDI_PARTICIPANT_PROFILE"] = "windfdi_participant_loopback"
@@ -110,7 +120,7 @@ class Farm:
         self.network_file = os.path.join(work, "network") if network else None
         if self.network_file:
             self.env["WINDFDI_NETWORK_EMULATION"] = self.network_file
-        self.procs, self.incarnations = {}, {}
+        self.procs, self.incarnations, self.started = {}, {}, {}
 
     def set_network(self, text):
         """The emulated network from now on: "loss P", "down", or None (no loss)."""
@@ -141,7 +151,7 @@ class Farm:
             return [os.path.join(BIN, "windfdi-arbiter"), "--config", arbiter_cfg, "--arbiter-id", "standby",
                     "--strength", "10"]
         if name == "farm":
-            return [os.path.join(BIN, "windfdi-farm"), "--db", self.db, "--table-period", "0"]
+            return [os.path.join(BIN, "windfdi-farm"), "--db", self.db, "--table-period", "0"] + self.farm_args
         if name == "plant":
             return [os.path.join(BIN, "windfdi-plant"), "--scenario", self.scenario, "--rate", str(self.rate),
                     "--progress", "0"]
@@ -155,6 +165,7 @@ class Farm:
         self.incarnations[name] = k + 1
         log = open(os.path.join(self.logs, f"{name}.{k}.log"), "w")
         self.procs[name] = subprocess.Popen(self.argv(name), env=self.env, stdout=log, stderr=subprocess.STDOUT)
+        self.started[name] = time.time()
         log.close()
 
     def signal(self, name, sig):
@@ -410,8 +421,10 @@ def start_farm(a):
     """The farm of `a.turbines` turbines with every process, its injected faults raised and `a.warmup` s more."""
     work = a.work or tempfile.mkdtemp(prefix="windfdi_reliability_")
     os.makedirs(work, exist_ok=True)
+    soak = a.command == "soak"
     farm = Farm(work, a.rate, a.turbines, getattr(a, "max_turbines", None), getattr(a, "filtered", False),
-                a.command == "network")
+                a.command == "network", round(a.hours * 3600) if soak else 100000,
+                ["--estimate-retention", str(a.retention)] if soak else [])
     for n in PROCESSES:
         if not os.access(farm.argv(n)[0], os.X_OK):
             print(f"reliability: {farm.argv(n)[0]} not built (deploy/scripts/setup.sh)", file=sys.stderr)
@@ -626,6 +639,118 @@ def network(a):
                                 f"{r['not_normal_s']:.1f} |")
 
 
+LOST = re.compile(r": (\d+) samples lost before sequence")
+
+
+def samples_lost(farm, service):
+    """Samples the service's logs say were lost (sequence gaps), over every incarnation."""
+    total = 0
+    for path in farm.log_paths(service):
+        with open(path, errors="replace") as f:
+            total += sum(int(m[1]) for m in map(LOST.search, f) if m)
+    return total
+
+
+def store_bytes(farm):
+    """Bytes of the farm store: the SQLite file and its write-ahead log."""
+    return sum(os.path.getsize(p) for p in (farm.db, farm.db + "-wal") if os.path.exists(p))
+
+
+def soak(a):
+    """The farm runs --hours of sample time; every --sample wall seconds the resident memory of each process and
+    the store's size are taken. Judged: memory flat (the last third's median against the first third's), the
+    store no larger than its retention holds, nothing raised but the injected faults, no safe stop, no exit."""
+    farm = None
+    samples = []
+    try:
+        farm = start_farm(a)
+        if farm is None:
+            return 2
+        before = active_faults(farm)
+        t0 = time.time()
+        while farm.procs["plant"].poll() is None:
+            samples.append({"wall_s": round(time.time() - t0, 1), "store_mb": store_bytes(farm) / 1e6,
+                            "rss_mb": {n: rss_mb(p.pid) for n, p in farm.procs.items()}})
+            print(f"  {samples[-1]['wall_s']:7.0f} s: store {samples[-1]['store_mb']:.0f} MB, "
+                  + ", ".join(f"{n} {fmt(v)}" for n, v in samples[-1]["rss_mb"].items()), flush=True)
+            if time.time() - t0 > 3 * a.hours * 3600 / a.rate + 600:
+                print("reliability: the plant did not finish in three times its expected time", file=sys.stderr)
+                break
+            time.sleep(a.sample)
+        wall = time.time() - farm.started["plant"]
+        plant_exit = farm.procs["plant"].poll()
+        raised = active_faults(farm)
+        judged = judged_since(farm, t0, before)
+        exited = [n for n in farm.exited() if n != "plant"]
+        events = farm.query("SELECT count(*) FROM fault_events")[0][0]
+        estimates = farm.query("SELECT count(*) FROM estimates")[0][0]
+    finally:
+        if farm:
+            farm.stop_all()
+    third = max(1, len(samples) // 3)
+
+    def median(values):
+        values = sorted(v for v in values if v is not None)
+        return values[len(values) // 2] if values else None
+
+    rows = []
+    problems = []
+    for n in farm.procs:
+        first = median(x["rss_mb"].get(n) for x in samples[:third])
+        last = median(x["rss_mb"].get(n) for x in samples[-third:])
+        peak = max((x["rss_mb"].get(n) or 0.0 for x in samples), default=0.0)
+        rows.append((n, first, last, peak))
+        if first and last and last - first > max(SOAK_RSS_GROWTH_MB, 0.1 * first):
+            problems.append(f"{n} grew from {first:.0f} to {last:.0f} MB")
+    # The documented size (README, farm monitor): about 150 bytes a stored estimate, one a second of estimate
+    # time per turbine and service, kept --retention hours of wall time.
+    kept_hours = min(a.hours, a.retention * a.rate)
+    documented_mb = 150e-6 * 3600 * kept_hours * len(SERVICES) * a.turbines
+    store_mb = samples[-1]["store_mb"] if samples else 0.0
+    if store_mb > 1.5 * documented_mb + 50:
+        problems.append(f"store {store_mb:.0f} MB beyond its retention's {documented_mb:.0f} MB")
+    if plant_exit != 0:
+        problems.append(f"the plant did not finish its {a.hours} h (exit {plant_exit})")
+    if exited:
+        problems.append("exited: " + ", ".join(exited))
+    if judged["new_raises"]:
+        problems.append("raised: " + ", ".join(judged["new_raises"]))
+    if judged["safe_stops"]:
+        problems.append("safe stop of " + ", ".join(judged["safe_stops"]))
+    if not judged["faults_kept"]:
+        problems.append("an injected fault cleared")
+    if not EXPECTED <= raised:
+        problems.append("injected faults not raised: " + ", ".join(" ".join(k) for k in sorted(EXPECTED - raised)))
+    # Samples the services lost (their logs' sequence gaps): a soak that does not keep up is no soak.
+    lost = {n: samples_lost(farm, n) for n in SERVICES}
+    if any(lost.values()):
+        problems.append("samples lost (the farm did not keep up): " + ", ".join(
+            f"{n} {v}" for n, v in lost.items() if v))
+    print(f"\nsoak: {a.turbines} turbines, {a.hours:g} h of sample time at {a.rate:g}x in {wall / 60:.0f} min "
+          f"(effective {a.hours * 3600 / wall:.1f}x), {len(samples)} samples every {a.sample:g} s\n")
+    print("| process | resident MB, first third (median) | last third (median) | peak |")
+    print("|---|---|---|---|")
+    for n, first, last, peak in rows:
+        print(f"| {n} | {fmt(first)} | {fmt(last)} | {peak:.1f} |")
+    print(f"\nstore: {store_mb:.0f} MB at the end ({estimates} estimates, {events} fault events; its retention of "
+          f"{a.retention:g} h holds about {documented_mb:.0f} MB)")
+    print("samples lost by the services: " + ", ".join(f"{n} {v}" for n, v in lost.items()))
+    print(f"raised besides the injected faults: {', '.join(judged['new_raises']) or 'nothing'}; safe stops: "
+          f"{', '.join(judged['safe_stops']) or 'none'}; injected faults kept: "
+          f"{'yes' if judged['faults_kept'] else 'NO'}")
+    print("problems: " + ("; ".join(problems) or "none"))
+    print(f"work: {farm.work}")
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump({"samples": samples, "rows": rows, "problems": problems, "wall_s": wall, "lost": lost,
+                       "store_mb": store_mb, "documented_mb": documented_mb, **judged}, f, indent=1)
+    return 1 if a.require and problems else 0
+
+
+# A soak's process may grow this much (MB, or a tenth of its size) between the first and the last third.
+SOAK_RSS_GROWTH_MB = 20.0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="command", required=True)
@@ -647,23 +772,29 @@ def main():
     n.add_argument("--cases", default="loss10,loss30,down", help="lossP (P %% of messages dropped) or down")
     n.add_argument("--hold", type=float, default=60.0, help="wall seconds of each loss case")
     n.add_argument("--outage", type=float, default=10.0, help="wall seconds of the outage")
-    for q in (p, h, n):
+    k = sub.add_parser("soak", help="hours of sample time: memory, the store, false alarms")
+    k.add_argument("--hours", type=float, default=24.0, help="hours of sample time (default 24)")
+    k.add_argument("--sample", type=float, default=60.0, help="wall seconds between measurements")
+    k.add_argument("--retention", type=float, default=0.5,
+                   help="the farm monitor's --estimate-retention, hours of wall time (default 0.5: the store "
+                        "reaches its plateau within the run)")
+    for q in (p, h, n, k):
         q.add_argument("--rate", type=float, default=4.0, help="plant speed-up (default 4)")
-        q.add_argument("--turbines", type=int, default=3, help="turbines of the farm (3..10)")
+        q.add_argument("--turbines", type=int, default=3, help="turbines of the farm (3..10; soak: 3..20)")
         q.add_argument("--warmup", type=float, default=60.0, help="wall seconds before the first case")
         q.add_argument("--settle", type=float, default=15.0, help="wall seconds judged after each case")
         q.add_argument("--work", help="directory for logs and the store (default: a new temporary one)")
         q.add_argument("--json", help="also write the results as JSON here")
         q.add_argument("--require", action="store_true", help="exit 1 when anything fails")
     a = ap.parse_args()
-    if not 3 <= a.turbines <= 10 or a.rate <= 0:
+    if not 3 <= a.turbines <= (20 if a.command == "soak" else 10) or a.rate <= 0:
         print(f"reliability: bad --turbines/--rate: {a.turbines}, {a.rate}", file=sys.stderr)
         return 2
     # A SIGTERM (ctest's timeout, a Ctrl-C'd script) stops the farm like the end of the run does.
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(1))
     if a.command == "hostile" and a.max_turbines == 0:
         a.max_turbines = None
-    return {"processes": processes, "hostile": hostile, "network": network}[a.command](a)
+    return {"processes": processes, "hostile": hostile, "network": network, "soak": soak}[a.command](a)
 
 
 if __name__ == "__main__":
