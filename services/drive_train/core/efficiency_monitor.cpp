@@ -19,8 +19,7 @@ const EfficiencyState& EfficiencyMonitor::update(double tg, double wg, double ae
   const bool ok = usable && std::isfinite(tg) && std::isfinite(wg) && std::isfinite(aero_power) &&
                   std::isfinite(pitch) && wg > c_.min_generator_speed;
   if (!ok) {
-    torque_.reset(), speed_.reset(), aero_torque_.reset(), pitch_.reset(), aero_power_.reset();
-    first_speed_.reset(), last_speeds_.clear(), lost_in_block_ = 0;
+    reset_block();
     if (forget) state_.ready = false;
     return state_;
   }
@@ -39,9 +38,13 @@ const EfficiencyState& EfficiencyMonitor::update(double tg, double wg, double ae
   return state_;
 }
 
-void EfficiencyMonitor::discard_recent(double seconds) {
+void EfficiencyMonitor::reset_block() {
   torque_.reset(), speed_.reset(), aero_torque_.reset(), pitch_.reset(), aero_power_.reset();
   first_speed_.reset(), last_speeds_.clear(), lost_in_block_ = 0;
+}
+
+void EfficiencyMonitor::discard_recent(double seconds) {
+  reset_block();
   for (double s = 0.0; s < seconds - 1e-9 && !blocks_.empty(); s += c_.block_time) blocks_.pop_back();
 }
 
@@ -64,8 +67,7 @@ void EfficiencyMonitor::close_block() {
   b.inertia_torque = c_.rotor_inertia * wg_dot / (nr * nr);
   const bool operating =
       aero_power_.mean() >= c_.min_power_share * c_.rated_power && pitch_.mean() <= c_.max_pitch;
-  torque_.reset(), speed_.reset(), aero_torque_.reset(), pitch_.reset(), aero_power_.reset();
-  first_speed_.reset(), last_speeds_.clear(), lost_in_block_ = 0;
+  reset_block();
   if (!operating || !(b.rotor_side > 0.0)) return;
   blocks_.push_back(b);
   evaluate();

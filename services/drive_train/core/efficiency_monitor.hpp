@@ -67,6 +67,7 @@ class EfficiencyMonitor {
     double generator_side = 0.0, rotor_side = 0.0, inertia_torque = 0.0;
   };
   void close_block();
+  void reset_block();  // drops the block in progress
   void evaluate();
   /// The rotor's inertia ratio fitted beside the efficiency on `n` blocks from `from` blocks back.
   double fitted_inertia_ratio(std::size_t from, std::size_t n) const;

@@ -211,7 +211,6 @@ bool IceDetector::bridge(const FrameSample& s, double power) {
     estimator_.update(omega, p, torque);
     fast_.update(omega, p, torque);
   }
-  bridged_ += static_cast<uint64_t>(steps - 1);
   return true;
 }
 

@@ -109,8 +109,6 @@ class IceDetector {
   /// Samples not fed because the generator speed was suspect (speed_mismatch, or another service's fault on a
   /// speed sensor): the inertia is estimated from it, so the estimate is held instead.
   uint64_t suspect_samples() const { return suspect_samples_; }
-  /// Samples lost in holes that were bridged (max_bridged_gap) rather than restarting the regression.
-  uint64_t bridged_samples() const { return bridged_; }
   void set_context(const InputContext& context) { context_ = context; }
   const InertiaEstimator& estimator() const { return estimator_; }
   /// The drop (share of J0) the fast shedding route needs now: shed_sigmas learned deviations of the fast
@@ -176,7 +174,6 @@ class IceDetector {
   // Feeds the estimators the straight line from last_fed_ to `s` over the samples lost between them; false
   // (nothing fed) when the hole is not whole samples of at most max_bridged_gap.
   bool bridge(const FrameSample& s, double power);
-  uint64_t bridged_ = 0;
   double resumed_at_ = -1e300;  // sample time the estimators were last fed again after a reset
   double speed_mismatch_lp_ = 0.0;
   uint64_t suspect_samples_ = 0;  // time the last shedding was raised

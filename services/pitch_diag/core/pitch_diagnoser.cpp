@@ -357,7 +357,6 @@ bool PitchDiagnoser::update(const FrameSample& s, bool gap, std::vector<FaultEve
           blades_[i].update(fed_u_[i] + f * (s.pitch_ref[i] - fed_u_[i]),
                             fed_y_[i] + f * (s.pitch[i] - fed_y_[i]), false);
         }
-        bridged_ += lost;
       } else {
         blades_[i].restart();
         blades_[i].decide_from(s.t + cfg_.startup_settle);

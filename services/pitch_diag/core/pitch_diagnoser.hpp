@@ -163,8 +163,6 @@ class PitchDiagnoser {
   uint64_t rejected(int blade) const { return rejected_[blade]; }
   uint64_t rejected() const { return rejected_[0] + rejected_[1] + rejected_[2]; }
   uint64_t gaps() const { return gaps_; }
-  /// Samples lost in gaps that were bridged (summed over blades).
-  uint64_t bridged_samples() const { return bridged_; }
   /// Samples of blade i left out because its actuator was at its rate limit (max_tracking_error).
   uint64_t saturated(int blade) const { return saturated_[blade]; }
   /// Samples of blade i held because an input was suspect (another service's fault, a stuck pitch reading,
@@ -184,7 +182,7 @@ class PitchDiagnoser {
   SuspectHold suspects_;
   std::array<double, kBlades> last_y_{};
   std::array<int, kBlades> repeated_{};  // consecutive samples with the same pitch reading
-  uint64_t gaps_ = 0, bridged_ = 0;
+  uint64_t gaps_ = 0;
   // The last sample fed to each blade's identifier (reference, pitch), and whether the previous sample was
   // it.
   std::array<double, kBlades> fed_u_{}, fed_y_{};
