@@ -2,6 +2,7 @@
 // configurations, health, and a whole farm's instances).
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <map>
@@ -23,7 +24,7 @@ using namespace windfdi;
 namespace {
 
 int publish(const CommonOptions& common, const std::vector<std::string>& ids, int blocks, int block_size,
-            int readers, double rate) {
+            int readers, double rate, bool wall_stamp) {
   bus::Participant participant(participant_options(common, "windfdi-test-peer"));
   bus::Writer<windfdi::TurbineFrame> writer(participant);
   if (!writer.wait_for_readers(readers, std::chrono::seconds(20))) {
@@ -43,7 +44,7 @@ int publish(const CommonOptions& common, const std::vector<std::string>& ids, in
         s.rotor_speed = 1.2;
         frame.samples().push_back(bus::to_idl(s));
       }
-      frame.t(frame.samples().back().t());
+      frame.t(wall_stamp ? wall_time() : frame.samples().back().t());
       if (!writer.write(frame)) ++failures;
     }
     sleep_unless_shutdown(
@@ -90,13 +91,16 @@ int listen(const CommonOptions& common, uint64_t expect, double timeout) {
   uint64_t total = 0;
   const double start = wall_time();
   std::vector<windfdi::TurbineFrame> frames;
+  std::vector<double> delays_ms;  // of wall-stamped frames (publish --wall-stamp), taken to taken
   // Ready marker: the test waits for it before starting the publisher.
   std::cout << "{\"ready\":true}" << std::endl;
   while (!shutdown_requested() && total < expect && wall_time() - start < timeout) {
     wakeup.wait_for(std::chrono::milliseconds(100));
     frames.clear();
     reader.take(frames);
+    const double taken_at = wall_time();
     for (const auto& f : frames) {
+      if (f.t() > 1e9) delays_ms.push_back(1e3 * (taken_at - f.t()));
       for (const auto& s : f.samples()) {
         const std::string& id = f.turbine_id();
         if (next.count(id) && s.sequence() != next[id]) gaps[id] += s.sequence() - next[id];
@@ -116,6 +120,13 @@ int listen(const CommonOptions& common, uint64_t expect, double timeout) {
                      {"writers_discovered", discovery.writers.load()},
                      {"readers_discovered", discovery.readers.load()},
                      {"matched_writers", reader.matched()}};
+  if (!delays_ms.empty()) {
+    std::sort(delays_ms.begin(), delays_ms.end());
+    auto at = [&](double q) {
+      return delays_ms[static_cast<std::size_t>(q * static_cast<double>(delays_ms.size() - 1))];
+    };
+    out["delay_ms"] = {{"p50", at(0.5)}, {"p99", at(0.99)}, {"max", delays_ms.back()}};
+  }
   std::cout << out.dump() << std::endl;
   participant.get()->set_listener(nullptr);
   // Asked to stop (SIGTERM/SIGINT): a clean exit; otherwise success means everything expected arrived.
@@ -614,6 +625,9 @@ int main(int argc, char** argv) {
   app.add_option("--block", block_size, "samples per block (1..32)")->check(CLI::Range(1, 32));
   app.add_option("--readers", readers, "readers to wait for before publishing");
   app.add_option("--rate", rate, "blocks per second per turbine");
+  bool wall_stamp = false;
+  app.add_flag("--wall-stamp", wall_stamp,
+               "publish mode: each frame's t is the wall clock (listen then reports the frames' delay)");
   app.add_option("--expect", expect, "samples to receive before exiting");
   app.add_option("--timeout", timeout, "seconds before giving up");
   int cycles = 100;
@@ -628,7 +642,7 @@ int main(int argc, char** argv) {
   app.add_option("--huge", huge, "hostile mode: bytes of the strings it writes in IDL string fields");
   return run_main(app, argc, argv, common, [&] {
     if (mode == "hostile") return hostile(common, turbine, farm, huge, report_keys, hold);
-    if (mode == "publish") return publish(common, ids, blocks, block_size, readers, rate);
+    if (mode == "publish") return publish(common, ids, blocks, block_size, readers, rate, wall_stamp);
     if (mode == "fault") return fault(common, turbine, source, script, hold);
     if (mode == "configs") return configs(common, timeout);
     if (mode == "health") return health(common, timeout);

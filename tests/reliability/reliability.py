@@ -22,12 +22,13 @@ turbines, NaN / infinite / 1e308 samples of WT03, reports and health with unknow
 turbines, ids of 200 bytes and strings of --huge bytes. Reported: every process's resident memory before and
 after, which ended, what was raised on the real turbines, safe stops, unknown turbines in the farm store.
 
-  reliability.py network [--cases loss10,loss30,down] [--hold S] [--outage S] [--work DIR] [--json FILE]
-                          [--require]
+  reliability.py network [--cases loss10,loss30,jitter50,down] [--hold S] [--outage S] [--work DIR]
+                          [--json FILE] [--require]
 
-A lossy or partitioned network (every process's UDP transport drops what it sends: WINDFDI_NETWORK_EMULATION,
-common/dds/network_emulation.hpp; shared memory off, so that every message crosses it): "lossP" drops P % of
-the messages at random for --hold s, "down" all of them for --outage s. Reported per case: which services the
+A lossy, jittery or partitioned network (every process's UDP transport drops or holds what it sends:
+WINDFDI_NETWORK_EMULATION, common/dds/network_emulation.hpp; shared memory off, so that every message crosses
+it): "lossP" drops P % of the messages at random for --hold s, "jitterMS" holds each a random 0..MS ms for
+--hold s, "down" drops all of them for --outage s. Reported per case: which services the
 farm store showed lost and how long until all were back, the faults kept, what was raised, safe stops, how
 long the arbiter's configuration was not the normal one, and (over the run) reports the services logged that
 the store lacks and configurations applied out of order.
@@ -116,14 +117,15 @@ class Farm:
         for var in ("FASTRTPS_DEFAULT_PROFILES_FILE", "FASTDDS_DEFAULT_PROFILES_FILE", "ROS_DISCOVERY_SERVER",
                     "FASTDDS_ENVIRONMENT_FILE", "WINDFDI_QOS_FILE"):
             self.env.pop(var, None)
-        # Every process follows this file's "loss P" or "down" (network_emulation.hpp); no file: no loss.
+        # Every process follows this file's "loss P", "jitter MS" or "down" (network_emulation.hpp); no file:
+        # nothing.
         self.network_file = os.path.join(work, "network") if network else None
         if self.network_file:
             self.env["WINDFDI_NETWORK_EMULATION"] = self.network_file
         self.procs, self.incarnations, self.started = {}, {}, {}
 
     def set_network(self, text):
-        """The emulated network from now on: "loss P", "down", or None (no loss)."""
+        """The emulated network from now on: "loss P", "jitter MS", "down", or None (no loss)."""
         if text is None:
             if os.path.exists(self.network_file):
                 os.remove(self.network_file)
@@ -586,12 +588,15 @@ def not_normal_seconds(farm, since, until):
 
 
 def run_network_case(farm, case, hold, outage, settle):
-    """One network case: loss of P % for `hold` s, or an outage of `outage` s; returns the row of the report."""
+    """One network case: loss of P % or jitter of MS for `hold` s, or an outage of `outage` s; returns the row of the report."""
     before = active_faults(farm)
     t0 = time.time()
     if case == "down":
         farm.set_network("down")
         time.sleep(outage)
+    elif case.startswith("jitter"):
+        farm.set_network(f"jitter {int(case[6:])}")
+        time.sleep(hold)
     else:
         farm.set_network(f"loss {int(case[4:])}")
         time.sleep(hold)
@@ -622,9 +627,11 @@ def run_network_case(farm, case, hold, outage, settle):
 
 def network(a):
     cases = [c for c in a.cases.split(",") if c]
-    bad = [c for c in cases if c != "down" and not re.fullmatch(r"loss([0-9]|[1-9][0-9]|100)", c)]
+    bad = [c for c in cases if c != "down" and not re.fullmatch(r"loss([0-9]|[1-9][0-9]|100)", c)
+           and not re.fullmatch(r"jitter[1-9][0-9]{0,3}", c)]
     if bad:
-        print(f"reliability: bad --cases {bad}: lossP (P in 0..100) or down", file=sys.stderr)
+        print(f"reliability: bad --cases {bad}: lossP (P in 0..100), jitterMS (MS in 1..9999) or down",
+              file=sys.stderr)
         return 2
     return run_cases(a, cases, lambda farm, c: run_network_case(farm, c, a.hold, a.outage, a.settle),
                      lambda row: check_row(dict(row, process="network", lost_after_s=0.0)),
@@ -768,9 +775,10 @@ def main():
                    help="every process but the plant also given --turbine WT01..WTnn (the farm's turbines)")
     h.add_argument("--report-keys", type=int, default=0,
                    help="the peer also sends canonical FaultReports under this many distinct keys a round")
-    n = sub.add_parser("network", help="a lossy network, then an outage")
-    n.add_argument("--cases", default="loss10,loss30,down", help="lossP (P %% of messages dropped) or down")
-    n.add_argument("--hold", type=float, default=60.0, help="wall seconds of each loss case")
+    n = sub.add_parser("network", help="a lossy network, a jittery one, then an outage")
+    n.add_argument("--cases", default="loss10,loss30,jitter50,down",
+                   help="lossP (P %% of messages dropped), jitterMS (each held 0..MS ms) or down")
+    n.add_argument("--hold", type=float, default=60.0, help="wall seconds of each loss or jitter case")
     n.add_argument("--outage", type=float, default=10.0, help="wall seconds of the outage")
     k = sub.add_parser("soak", help="hours of sample time: memory, the store, false alarms")
     k.add_argument("--hours", type=float, default=24.0, help="hours of sample time (default 24)")
