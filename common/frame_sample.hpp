@@ -47,4 +47,16 @@ struct FrameSample {
   uint32_t valid_mask = kValidAll;
 };
 
+/// Whether a service bridges the samples lost between two it received of one turbine (sequence and time of
+/// the last one, then of this one) instead of restarting: some were lost, time went forward, and the hole,
+/// the time between the two less one sample period (the period read from the two themselves, so that no
+/// service needs a configured rate), is at most max_bridged_gap (s). One rule for every service: a loss is
+/// bridged by all of them or by none (they had differed by a sample at the boundary).
+inline bool bridgeable_hole(uint64_t last_sequence, double last_t, uint64_t sequence, double t,
+                            double max_bridged_gap) {
+  if (sequence <= last_sequence + 1 || !(t > last_t)) return false;
+  const double lost = static_cast<double>(sequence - last_sequence - 1);
+  return (t - last_t) * lost / (lost + 1.0) <= max_bridged_gap + 1e-6;
+}
+
 }  // namespace windfdi

@@ -63,8 +63,9 @@ bool BladeLoadMonitor::update(const FrameSample& sample, bool gap, std::vector<F
   // samples cost a few samples' weight. Restarting them on every hole, 20 samples lost every 5 s kept the
   // windows refilling most of the time and delayed a drift by 19 s. The LIDAR model's windows restart by
   // themselves where the hole reaches the delayed LIDAR values (below).
-  const bool short_gap = gap && t > last_t_ && t - last_t_ <= cfg_.max_bridged_gap;
+  const bool short_gap = gap && bridgeable_hole(last_sequence_, last_t_, s.sequence, t, cfg_.max_bridged_gap);
   last_t_ = t;
+  last_sequence_ = s.sequence;
   if (gap) {
     if (!short_gap) reset_windows();
     validity_.restart_lidar(t, lidar_grace);

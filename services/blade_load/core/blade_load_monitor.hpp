@@ -140,7 +140,8 @@ class BladeLoadMonitor {
   TableAdaptation adaptation_;
   double next_tick_ = -1.0;
   double rev_angle_ = 0.0, last_azimuth_ = kNaN;
-  double last_t_ = kNaN;  // time of the last sample
+  double last_t_ = kNaN;        // time of the last sample
+  uint64_t last_sequence_ = 0;  // and its sequence
   double rev_time_ = 0.0, last_rev_t_ = -1.0;
   bool due_ = false;
   BladeLoadOutput out_;

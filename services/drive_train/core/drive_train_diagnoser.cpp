@@ -109,14 +109,16 @@ bool DriveTrainDiagnoser::update(const FrameSample& s, bool gap, std::vector<Fau
     for (std::size_t i = 0; i < kBlades; ++i) pitch += centre.pitch[i] / kBlades;
     // A short hole of lost samples leaves the block running with its span counted (ending the block on
     // each, 20 samples lost every few seconds let no 5 s block ever close).
-    const double lost = std::round((centre.t - last_centre_t_) / c_.sample_time) - 1.0;
+    const bool bridged = centre_gap && bridgeable_hole(last_centre_sequence_, last_centre_t_, centre.sequence,
+                                                       centre.t, c_.max_bridged_gap);
+    const uint64_t lost = bridged ? centre.sequence - last_centre_sequence_ - 1 : 0;
     last_centre_t_ = centre.t;
-    const bool bridged = centre_gap && lost >= 1.0 && lost * c_.sample_time <= c_.max_bridged_gap + 1e-9;
+    last_centre_sequence_ = centre.sequence;
     const bool forget = context_.generator_speed_suspect;
     const bool usable =
         !forget && (!centre_gap || bridged) && !context_.turbine_stopped && std::isfinite(centre.rotor_speed);
     efficiency_.update(centre.gen_torque, centre.generator_speed, aero_power, pitch, usable, forget,
-                       bridged ? static_cast<std::size_t>(lost) : 0);
+                       static_cast<std::size_t>(lost));
     report_efficiency(centre.t, events);
   }
   return plausible;

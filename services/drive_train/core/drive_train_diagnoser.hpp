@@ -75,7 +75,8 @@ class DriveTrainDiagnoser {
   AeroPowerInput aero_power_;
   InputContext context_;
   bool last_rejected_ = false;
-  double last_centre_t_ = kNaN;  // time of the last sample judged by the energy balance
+  double last_centre_t_ = kNaN;        // time of the last sample judged by the energy balance
+  uint64_t last_centre_sequence_ = 0;  // and its sequence
   uint64_t rejected_ = 0;
   double t_ = 0.0, next_estimate_ = 0.0, converter_since_ = 0.0, efficiency_since_ = 0.0;
   bool have_estimate_ = false;

@@ -179,7 +179,7 @@ bool IceDetector::update(const FrameSample& s, double power, bool gap, std::vect
   if (feed) {
     if (!fed_) resumed_at_ = s.t;  // the regression starts afresh here
     fed_ = true;
-    last_fed_ = Fed{s.t, s.generator_speed, power, s.gen_torque};
+    last_fed_ = Fed{s.sequence, s.t, s.generator_speed, power, s.gen_torque};
     estimator_.update(s.generator_speed, power, s.gen_torque);
     fast_.update(s.generator_speed, power, s.gen_torque);
   } else {
@@ -196,12 +196,11 @@ bool IceDetector::update(const FrameSample& s, double power, bool gap, std::vect
 }
 
 bool IceDetector::bridge(const FrameSample& s, double power) {
+  if (!bridgeable_hole(last_fed_.sequence, last_fed_.t, s.sequence, s.t, cfg_.max_bridged_gap)) return false;
+  // The estimators integrate over the configured sample time: the line needs the hole's samples at it.
+  const long steps = static_cast<long>(s.sequence - last_fed_.sequence);  // the lost samples and this one
   const double dt = cfg_.estimator.sample_time;
-  const double hole = s.t - last_fed_.t;
-  const long steps = std::lround(hole / dt);  // the lost samples and this one
-  if (steps < 2 || hole > cfg_.max_bridged_gap + 0.5 * dt ||
-      std::fabs(hole - static_cast<double>(steps) * dt) > 0.25 * dt)
-    return false;
+  if (std::fabs(s.t - last_fed_.t - static_cast<double>(steps) * dt) > 0.25 * dt) return false;
   for (long k = 1; k < steps; ++k) {
     const double f = static_cast<double>(k) / static_cast<double>(steps);
     const auto line = [f](double a, double b) { return a + f * (b - a); };

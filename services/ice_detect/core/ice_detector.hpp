@@ -169,6 +169,7 @@ class IceDetector {
   InputContext context_;
   bool fed_ = false;  // the last sample was fed to the estimators
   struct Fed {
+    uint64_t sequence = 0;
     double t = 0, generator_speed = 0, power = 0, gen_torque = 0;
   } last_fed_;  // that sample
   // Feeds the estimators the straight line from last_fed_ to `s` over the samples lost between them; false

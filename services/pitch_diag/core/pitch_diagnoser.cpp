@@ -348,8 +348,7 @@ bool PitchDiagnoser::update(const FrameSample& s, bool gap, std::vector<FaultEve
     // 5-20 s (a loaded host); across a short gap the models move on through the straight line instead.
     ++gaps_;
     const uint64_t lost = s.sequence > last_sequence_ ? s.sequence - last_sequence_ - 1 : 0;
-    const bool short_gap =
-        lost > 0 && static_cast<double>(lost) * cfg_.identifier.T <= cfg_.max_bridged_gap + 1e-9;
+    const bool short_gap = bridgeable_hole(last_sequence_, last_t_, s.sequence, s.t, cfg_.max_bridged_gap);
     for (int i = 0; i < kBlades; ++i) {
       if (short_gap && fed_[i] && valid_sample(s, i)) {
         for (uint64_t k = 1; k <= lost; ++k) {
@@ -370,6 +369,7 @@ bool PitchDiagnoser::update(const FrameSample& s, bool gap, std::vector<FaultEve
     }
   have_last_ = true;
   last_sequence_ = s.sequence;
+  last_t_ = s.t;
   const bool transient = suspects_.in_transient(s.t);
   const int stuck_samples = static_cast<int>(std::lround(cfg_.stuck_time / cfg_.identifier.T));
   for (int i = 0; i < kBlades; ++i) {

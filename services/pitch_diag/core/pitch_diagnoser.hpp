@@ -190,6 +190,7 @@ class PitchDiagnoser {
   bool valid_sample(const FrameSample& s, int blade) const;
   bool have_last_ = false;
   uint64_t last_sequence_ = 0;
+  double last_t_ = 0.0;  // time of that sample
   double next_tick_ = 0.0;
   bool due_ = false;
   PitchEstimate out_;

@@ -210,8 +210,10 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
   // Re-settle after a long hole: the observers missed too much. A short one (a loaded host losing 20 samples
   // every few seconds) moves the observers by a few samples' worth, well inside their noise; re-settling on
   // each left nothing ever raised.
-  const bool long_gap = gap && !(start_ >= 0.0 && s.t > last_t_ && s.t - last_t_ <= cfg_.max_bridged_gap);
+  const bool long_gap = gap && !(start_ >= 0.0 && bridgeable_hole(last_sequence_, last_t_, s.sequence, s.t,
+                                                                  cfg_.max_bridged_gap));
   last_t_ = s.t;
+  last_sequence_ = s.sequence;
   if (long_gap) start_ = -1.0;
   if (start_ < 0.0) start_ = s.t;
   // A reading repeated to the last bit is a stuck sensor (a healthy one carries noise).

@@ -215,7 +215,8 @@ class BiasEstimator {
   bool dt_init_ = false;
   std::array<bool, 3> pitch_init_{};
   double start_ = -1.0;
-  double last_t_ = -1.0;  // time of the last sample with a finite time
+  double last_t_ = -1.0;        // time of the last sample with a finite time
+  uint64_t last_sequence_ = 0;  // and its sequence
   std::array<double, kChannels> filtered_{};
   double filtered_diff_ = 0.0;
   double filtered_power_ = 0.0;  // W, the electrical power through the detector's low-pass (region 2 or 3)

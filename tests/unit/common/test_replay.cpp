@@ -20,6 +20,24 @@ TEST(SequenceTracker, ReportsLostSamplesAndRestarts) {
   EXPECT_EQ(s.lost_before(3), 0u);
 }
 
+TEST(BridgeableHole, EveryServiceBridgesSamplesLostOverAtMostMaxBridgedGap) {
+  // 100 Hz, max_bridged_gap 0.5 s: 50 samples lost (0.50 s of them) are bridged, 51 are not
+  auto hole = [](uint64_t lost) {
+    return bridgeable_hole(1000, 10.0, 1001 + lost, 10.0 + 0.01 * static_cast<double>(lost + 1), 0.5);
+  };
+  EXPECT_TRUE(hole(1));
+  EXPECT_TRUE(hole(20));
+  EXPECT_TRUE(hole(50));
+  EXPECT_FALSE(hole(51));
+  EXPECT_FALSE(hole(0));                                        // nothing lost: nothing to bridge
+  EXPECT_TRUE(bridgeable_hole(10, 1.0, 13, 4.0, 2.0));          // 1 Hz: 2 samples lost are 2 s of them
+  EXPECT_FALSE(bridgeable_hole(10, 1.0, 14, 5.0, 2.0));         // 3 are not
+  EXPECT_FALSE(bridgeable_hole(1000, 10.0, 1021, 9.0, 0.5));    // time went back (a restarted controller)
+  EXPECT_FALSE(bridgeable_hole(1000, 10.0, 1021, 310.0, 0.5));  // 20 lost and the clock stepped 5 minutes
+  EXPECT_FALSE(bridgeable_hole(1000, 10.0, 5, 10.5, 0.5));      // the sequence restarted
+  EXPECT_FALSE(bridgeable_hole(1000, 10.0, 1002, 10.02, 0.0));  // max_bridged_gap 0: every hole restarts
+}
+
 TEST(SampleTimeTracker, AStepBackOrAJumpOfMinutesIsADiscontinuityTheSampleRateIsNot) {
   SampleTimeTracker c;
   EXPECT_EQ(c.step(100.0), 0.0);  // first sample
