@@ -19,9 +19,10 @@ bool emulate_network(eprosima::fastdds::dds::DomainParticipantQos& qos, const st
 
 /// What an emulation file asks for.
 struct EmulatedNetwork {
-  double drop_share =
-      0.0;                 ///< of the messages sent, 0..1; 1 ("down" or "loss 100") also drops those received
-  double jitter_ms = 0.0;  ///< each message sent is held a uniform random 0..jitter_ms
+  /// Share of the messages sent to drop, 0..1; at 1 ("down" or "loss 100") those received are dropped too.
+  double drop_share = 0.0;
+  /// Each message sent is held a uniform random 0..jitter_ms.
+  double jitter_ms = 0.0;
 };
 
 /// A FILE's text read, or nothing when it is malformed (the participant then warns and emulates nothing).
