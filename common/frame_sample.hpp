@@ -47,6 +47,12 @@ struct FrameSample {
   uint32_t valid_mask = kValidAll;
 };
 
+/// Samples lost between two received ones of a turbine, from their sequence numbers (0 when consecutive,
+/// repeated or out of order).
+inline uint64_t samples_lost(uint64_t last_sequence, uint64_t sequence) {
+  return sequence > last_sequence + 1 ? sequence - last_sequence - 1 : 0;
+}
+
 /// Whether a service bridges the samples lost between two it received of one turbine (sequence and time of
 /// the last one, then of this one) instead of restarting: some were lost, time went forward, and the hole,
 /// the time between the two less one sample period (the period read from the two themselves, so that no
@@ -55,7 +61,7 @@ struct FrameSample {
 inline bool bridgeable_hole(uint64_t last_sequence, double last_t, uint64_t sequence, double t,
                             double max_bridged_gap) {
   if (sequence <= last_sequence + 1 || !(t > last_t)) return false;
-  const double lost = static_cast<double>(sequence - last_sequence - 1);
+  const double lost = static_cast<double>(samples_lost(last_sequence, sequence));
   return (t - last_t) * lost / (lost + 1.0) <= max_bridged_gap + 1e-6;
 }
 

@@ -111,7 +111,7 @@ bool DriveTrainDiagnoser::update(const FrameSample& s, bool gap, std::vector<Fau
     // each, 20 samples lost every few seconds let no 5 s block ever close).
     const bool bridged = centre_gap && bridgeable_hole(last_centre_sequence_, last_centre_t_, centre.sequence,
                                                        centre.t, c_.max_bridged_gap);
-    const uint64_t lost = bridged ? centre.sequence - last_centre_sequence_ - 1 : 0;
+    const uint64_t lost = bridged ? samples_lost(last_centre_sequence_, centre.sequence) : 0;
     last_centre_t_ = centre.t;
     last_centre_sequence_ = centre.sequence;
     const bool forget = context_.generator_speed_suspect;

@@ -198,7 +198,7 @@ bool IceDetector::update(const FrameSample& s, double power, bool gap, std::vect
 bool IceDetector::bridge(const FrameSample& s, double power) {
   if (!bridgeable_hole(last_fed_.sequence, last_fed_.t, s.sequence, s.t, cfg_.max_bridged_gap)) return false;
   // The estimators integrate over the configured sample time: the line needs the hole's samples at it.
-  const long steps = static_cast<long>(s.sequence - last_fed_.sequence);  // the lost samples and this one
+  const long steps = static_cast<long>(samples_lost(last_fed_.sequence, s.sequence)) + 1;  // and this one
   const double dt = cfg_.estimator.sample_time;
   if (std::fabs(s.t - last_fed_.t - static_cast<double>(steps) * dt) > 0.25 * dt) return false;
   for (long k = 1; k < steps; ++k) {

@@ -347,7 +347,7 @@ bool PitchDiagnoser::update(const FrameSample& s, bool gap, std::vector<FaultEve
     // every gap, with startup_settle before any decision, hid every fault when 20 samples were lost every
     // 5-20 s (a loaded host); across a short gap the models move on through the straight line instead.
     ++gaps_;
-    const uint64_t lost = s.sequence > last_sequence_ ? s.sequence - last_sequence_ - 1 : 0;
+    const uint64_t lost = samples_lost(last_sequence_, s.sequence);
     const bool short_gap = bridgeable_hole(last_sequence_, last_t_, s.sequence, s.t, cfg_.max_bridged_gap);
     for (int i = 0; i < kBlades; ++i) {
       if (short_gap && fed_[i] && valid_sample(s, i)) {

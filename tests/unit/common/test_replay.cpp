@@ -36,6 +36,11 @@ TEST(BridgeableHole, EveryServiceBridgesSamplesLostOverAtMostMaxBridgedGap) {
   EXPECT_FALSE(bridgeable_hole(1000, 10.0, 1021, 310.0, 0.5));  // 20 lost and the clock stepped 5 minutes
   EXPECT_FALSE(bridgeable_hole(1000, 10.0, 5, 10.5, 0.5));      // the sequence restarted
   EXPECT_FALSE(bridgeable_hole(1000, 10.0, 1002, 10.02, 0.0));  // max_bridged_gap 0: every hole restarts
+  // The count every service uses for the samples it bridges
+  EXPECT_EQ(samples_lost(1000, 1021), 20u);
+  EXPECT_EQ(samples_lost(1000, 1001), 0u);
+  EXPECT_EQ(samples_lost(1000, 1000), 0u);  // repeated
+  EXPECT_EQ(samples_lost(1000, 990), 0u);   // out of order (a restarted controller)
 }
 
 TEST(SampleTimeTracker, AStepBackOrAJumpOfMinutesIsADiscontinuityTheSampleRateIsNot) {
