@@ -32,6 +32,8 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "invalid_time",
                         "significance",
                         "drift_significance",
+                        "mean_drift_significance",
+                        "min_drift_share",
                         "drift_window",
                         "drift_confirm_revolutions",
                         "learn_time",
@@ -102,6 +104,8 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   DetectionConfig& d = c.detection;
   d.significance = y.get_number("significance", d.significance, 1e-12, 0.1);
   d.drift_significance = y.get_number("drift_significance", d.drift_significance, 1e-12, 0.1);
+  d.mean_drift_significance = y.get_number("mean_drift_significance", d.mean_drift_significance, 1e-12, 0.1);
+  d.min_drift_share = y.get_number("min_drift_share", d.min_drift_share, 0.0, 0.5);
   d.drift_window = static_cast<int>(y.get_number("drift_window", d.drift_window, 2, 1000));
   d.drift_confirm_revolutions =
       static_cast<int>(y.get_number("drift_confirm_revolutions", d.drift_confirm_revolutions, 1, 100));

@@ -46,6 +46,7 @@ void ResidualTests::critical_values() {
     }
     crit_[c] = student_t_critical(c_.significance, std::max(1, n - 1));
     drift_crit_[c] = student_t_critical(c_.drift_significance, std::max(1.0, ne - 1.0));
+    mean_drift_crit_[c] = student_t_critical(c_.mean_drift_significance, std::max(1.0, ne - 1.0));
   }
   const int nw = healthy_.learned(kWitnessChannel) ? healthy_.at(0, kWitnessChannel).n : 1000000;
   witness_crit_ = student_t_critical(c_.witness_significance, std::max(1, nw - 1));
@@ -161,10 +162,33 @@ void ResidualTests::drift_test(bool lidar_ok) {
     B.drift_firing = false;
     B.drift_channel = -1;
     double best = 0.0;
+    // Hysteresis as in the outlier test: a raised drift stays evidenced above the onset level. At the
+    // critical value itself, one quiet revolution (4-5 s) read as the fault going away and coming back, and a
+    // drift was renamed sensor_intermittent 40 s after its raise (suite seed 63). Only the run that raised
+    // it, on its channel and sign, continues at that level: another channel firing on the step back at the
+    // fault's end was read as the fault coming back.
     for (int c = 0; c < kChannels; ++c) {
       const double v = dt[b][c];
-      if (!std::isfinite(v) || std::fabs(v) <= drift_crit_[c]) continue;
-      if (!standalone(c, lidar_ok)) continue;
+      const bool same_run = B.raised == "sensor_drift" && c == last_channel && (v > 0) == last_positive;
+      const double level = same_run ? c_.onset_ratio : 1.0;
+      if (!std::isfinite(v)) continue;
+      const bool mean = c == kMeanChannel || c == kRawMeanChannel;
+      // A drifting gauge moves its mean load against the other gauges (kRawMean) and against the LIDAR model
+      // (kMean) by the same share. Where only one of the two moves, it is the model's per-blade error (2 MW
+      // rotor, 16 m/s: the normalised mean 1.3 % off for minutes, the gauges' own at 0.2 %) or the blades'
+      // individual pitch above rated (16 m/s: the gauges' 1.7 % with the normalised one at 0).
+      const int other = c == kMeanChannel ? kRawMeanChannel : kMeanChannel;
+      const bool agree = std::isfinite(wm[b][other]) && wm[b][other] * wm[b][c] > 0 &&
+                         std::fabs(wm[b][other]) >= 0.5 * std::fabs(wm[b][c]);
+      // The mean-load channels also fire at the looser level on a shift of min_drift_share or more that the
+      // other mean-load channel shares (without the LIDAR, the gauges' own alone).
+      const bool sized = mean && std::fabs(v) > level * mean_drift_crit_[c] &&
+                         std::fabs(wm[b][c]) >= level * c_.min_drift_share && (agree || !lidar_ok);
+      if (std::fabs(v) <= level * drift_crit_[c] && !sized) continue;
+      // The gauges' own cross-blade mean judges a drift with the LIDAR on too, where the normalised one
+      // shares its shift: in region 2 it is the quieter of the two (2 MW rotor, 7.3 m/s: twice its critical
+      // value where the normalised mean reached 1.05).
+      if (!standalone(c, lidar_ok) && !(c == kRawMeanChannel && c_.mean_test && agree)) continue;
       if (c == kModelChannel) {
         if (!witnessed(dt, b, drift_crit_)) continue;
         // As in the outlier test: a failed gauge shifts only its own blade's LIDAR residual. Another blade's

@@ -23,7 +23,15 @@ struct DetectionConfig {
   // The two tests.
   double significance = 1e-8;        ///< two-sided level of the outlier t-test per 10 Hz sample (0..0.1)
   double drift_significance = 1e-8;  ///< two-sided level of the moving-window mean test per revolution
-  int drift_window = 10;             ///< revolutions in the moving-window mean
+  /// A second, looser level on the mean-load channels (kMean, kRawMean), the ones a drift moves (a constant
+  /// added to a gauge leaves its first harmonic alone), for a window-mean shift of at least min_drift_share
+  /// that the other mean-load channel shares.
+  double mean_drift_significance = 1e-5;
+  /// Least window-mean shift, as a share of the rotor's mean blade load, that the looser level acts on: the
+  /// healthy 10-revolution means stay below 1.4 % (0.1 % of them above 1 %), while the t statistic alone
+  /// passes 1e-5 on shifts of 0.3 % where the healthy spread is narrow (20 m/s).
+  double min_drift_share = 0.01;
+  int drift_window = 10;  ///< revolutions in the moving-window mean
   /// Consecutive revolutions the moving-window test must fire on the same channel and sign before it raises
   /// (1: at once). A drift keeps growing past the critical value; a slow excursion of the LIDAR model's
   /// error or of the cross-blade mean touches it and falls back.
@@ -123,6 +131,7 @@ class ResidualTests {
   std::array<BladeState, 3> blades_;
   std::array<double, kChannels> max_ratio_{};
   std::array<double, kChannels> crit_{}, drift_crit_{};
+  std::array<double, kChannels> mean_drift_crit_{};  // at mean_drift_significance (mean-load channels)
   double witness_crit_ = 0.0;
   NoiseFollower noise_;        // of the one-revolution values
   NoiseFollower drift_noise_;  // of the drift test's window means

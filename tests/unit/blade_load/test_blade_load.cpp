@@ -180,14 +180,15 @@ struct SampleLosses {
 
 PlantRun run_plant(double wind, double ti, double shear, double shear_var, int seconds,
                    const std::vector<plant::FaultSpec>& faults, uint64_t seed, const MonitorConfig& c,
-                   LoadTable table, bool drop_lidar_after = false, SampleLosses losses = {}) {
+                   LoadTable table, bool drop_lidar_after = false, SampleLosses losses = {},
+                   const TurbineParams& turbine = TurbineParams{}) {
   plant::TurbineScenario t;
   t.id = "WT01";
   t.wind.mean = wind;
   t.wind.turbulence_intensity = ti;
   t.wind.shear_exponent = shear;
   t.wind.shear_variation = shear_var;
-  plant::TurbineSim sim(TurbineParams{}, t, faults, seed, 100.0);
+  plant::TurbineSim sim(turbine, t, faults, seed, 100.0);
   BladeLoadMonitor m(c, std::move(table));
   PlantRun r;
   BladeLoadOutput o;
@@ -337,6 +338,45 @@ TEST(PlantDetection, DriftOfOnePercentPerMinuteDetectedBeforeFivePercentAndHeld)
     EXPECT_GT(r.events[0].t, 300.0) << seed;
     EXPECT_LE(r.events[0].t - 300.0, 300.0) << seed;
   }
+}
+
+TEST(PlantDetection, ASuiteSizedDriftThatEndsIsFoundOnTheMeanLoadAndNamedOnce) {
+  // GIVEN the example 2 MW turbine and drifts the multi-fault suite draws on it (1 % of its mean load per
+  // minute for 120 s, then the gauge is repaired) on blade 3 at 7.5, 9 and 12 m/s in 15 % turbulence, four
+  // seeds each. A constant added to a gauge moves its mean load, not its first harmonic: judged at the first
+  // harmonic's 1e-8 and on the LIDAR-normalised mean alone, 3 of 5 such drifts of suite seed 64 ended
+  // unreported, and 4 of these 12 (measured before the change).
+  const std::string deploy = WINDFDI_SOURCE_DEPLOY_DIR;
+  const TurbineParams two = load_turbine_params_file(deploy + "/turbine/example_2MW.yaml");
+  const MonitorConfig c = load_monitor_config(YamlSection(YAML::Node(YAML::NodeType::Map), "(test)"), two);
+  int found = 0;
+  for (double wind : {7.5, 9.0, 12.0})
+    for (uint64_t seed : {4u, 9u, 13u, 21u}) {
+      auto f = fault("blade_moment_3", "drift", 300.0);
+      f.rate = -300.0;
+      f.end = 420.0;
+      const auto r =
+          run_plant(wind, 0.15, 0.25, 0.03, 700, {f}, seed, c,
+                    LoadTable::load_csv(deploy + "/turbine/example_2MW_load_table.csv"), false, {}, two);
+      const std::string seq = event_sequence(r.events);
+      std::printf("[measured] 2 MW suite drift %g m/s seed %llu: %s\n", wind,
+                  static_cast<unsigned long long>(seed), seq.c_str());
+      // THEN sensor_drift on blade 3 while it drifts, never renamed (intermittent) when the gauge is
+      // repaired, and nothing else raised
+      int raised = 0;
+      for (const auto& e : r.events)
+        if (e.raised) {
+          ++raised;
+          EXPECT_EQ(e.component, "blade_moment_sensor_3") << seq;
+          EXPECT_EQ(e.fault, "sensor_drift") << seq;
+          EXPECT_GT(e.t, 300.0) << seq;
+          EXPECT_LT(e.t, 425.0) << seq;
+        }
+      EXPECT_LE(raised, 1) << seq;
+      found += raised;
+    }
+  std::printf("[measured] 2 MW suite-sized drifts found: %d of 12\n", found);
+  EXPECT_GE(found, 11);
 }
 
 TEST(PlantDetection, AFastDriftFirstSeenByTheOutlierTestIsStillADrift) {
@@ -723,6 +763,8 @@ struct DriftRun {
 DriftRun run_drift_tests(int drift_confirm_revolutions) {
   DetectionConfig d;
   d.drift_confirm_revolutions = drift_confirm_revolutions;
+  // One critical value: the plateau is placed against it (the looser mean-load level would see it whole).
+  d.mean_drift_significance = d.drift_significance;
   ResidualTests tests(d, LearningConfig{}, EpisodeConfig{});
   const BladeEstimates e = three_equal_blades();
   const double revolution_time = 4.0, learn_sd = 0.01;
