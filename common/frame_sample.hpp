@@ -60,8 +60,8 @@ inline uint64_t samples_lost(uint64_t last_sequence, uint64_t sequence) {
 /// bridged by all of them or by none (they had differed by a sample at the boundary).
 inline bool bridgeable_hole(uint64_t last_sequence, double last_t, uint64_t sequence, double t,
                             double max_bridged_gap) {
-  if (sequence <= last_sequence + 1 || !(t > last_t)) return false;
   const double lost = static_cast<double>(samples_lost(last_sequence, sequence));
+  if (lost == 0.0 || !(t > last_t)) return false;
   return (t - last_t) * lost / (lost + 1.0) <= max_bridged_gap + 1e-6;
 }
 

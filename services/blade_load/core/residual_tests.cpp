@@ -178,7 +178,7 @@ void ResidualTests::drift_test(bool lidar_ok) {
       // rotor, 16 m/s: the normalised mean 1.3 % off for minutes, the gauges' own at 0.2 %) or the blades'
       // individual pitch above rated (16 m/s: the gauges' 1.7 % with the normalised one at 0).
       const int other = c == kMeanChannel ? kRawMeanChannel : kMeanChannel;
-      const bool agree = std::isfinite(wm[b][other]) && wm[b][other] * wm[b][c] > 0 &&
+      const bool agree = mean && std::isfinite(wm[b][other]) && wm[b][other] * wm[b][c] > 0 &&
                          std::fabs(wm[b][other]) >= 0.5 * std::fabs(wm[b][c]);
       // The mean-load channels also fire at the looser level on a shift of min_drift_share or more that the
       // other mean-load channel shares (without the LIDAR, the gauges' own alone).
