@@ -6,12 +6,27 @@
 
 namespace windfdi::drive_train {
 
+double feathering_pitch(const TurbineParams& turbine, double wind) {
+  // Bisection: Cp falls as the pitch rises at a fixed tip-speed ratio above fine pitch.
+  const AeroModel aero(turbine);
+  const double rotor_speed = turbine.rated_generator_speed / turbine.gear_ratio;
+  const double rated_aero =
+      turbine.rated_power / (turbine.generator_efficiency * turbine.drive_train_efficiency);
+  double low = 0.0, high = turbine.pitch_max;
+  if (aero.aero_power(wind, rotor_speed, low) <= rated_aero) return low;
+  for (int i = 0; i < 50; ++i) {
+    const double mid = 0.5 * (low + high);
+    (aero.aero_power(wind, rotor_speed, mid) > rated_aero ? low : high) = mid;
+  }
+  return low;
+}
+
 DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams& turbine) {
   // clang-format off
   s.require_known_keys({"turbine_file", "estimate_rate", "wind_window", "min_offset", "cusum_threshold",
                         "noise_learn_time", "noise_floor", "witness_ratio", "offset_clear_time",
                         "block_time", "test_time", "reference_gap", "reference_time", "efficiency_step",
-                        "efficiency_clear_ratio", "efficiency_clear_time", "min_power_share", "max_pitch",
+                        "efficiency_clear_ratio", "efficiency_clear_time", "min_power_share", "max_pitch_wind",
                         "min_generator_speed", "max_torque", "max_generator_speed", "max_power",
                         "sample_time", "iced_inertia_ratio", "context_lookback",
                         "max_bridged_gap"});
@@ -43,7 +58,8 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
   e.clear_ratio = s.get_number("efficiency_clear_ratio", e.clear_ratio, 0.0, 1.0);
   e.clear_time = s.get_number("efficiency_clear_time", e.clear_time, 0.0, 3600.0);
   e.min_power_share = s.get_number("min_power_share", e.min_power_share, 0.0, 1.0);
-  e.max_pitch = s.get_number("max_pitch", e.max_pitch, 0.0, 90.0);
+  c.max_pitch_wind = s.get_number("max_pitch_wind", c.max_pitch_wind, 3.0, 60.0);
+  e.max_pitch = feathering_pitch(turbine, c.max_pitch_wind);
   e.min_generator_speed = s.get_number("min_generator_speed", e.min_generator_speed, 0.0, 1000.0);
   e.iced_inertia_ratio = s.get_number("iced_inertia_ratio", e.iced_inertia_ratio, 1.0, 10.0);
   v.min_generator_speed = e.min_generator_speed;

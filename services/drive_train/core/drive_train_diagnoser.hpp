@@ -26,13 +26,20 @@ struct DiagnoserConfig {
   double context_lookback = 60.0;  ///< s of energy-balance blocks dropped when a speed or pitch sensor is
                                    ///< newly reported by another service (sensor_bias needs up to ~50 s)
   double sample_time = 0.01;       ///< s, the frame period (the benchmark's 100 Hz)
-  double max_bridged_gap = 0.5;    ///< s: samples lost over at most this long leave the energy balance's
-                                   ///< block running (its span counts them); a longer hole ends the block
+  /// m/s: the energy balance leaves out blocks pitched beyond what the turbine needs for rated power at
+  /// rated speed in this wind (feathering, stopping); the pitch itself is the turbine's (feathering_pitch)
+  double max_pitch_wind = 28.0;
+  double max_bridged_gap = 0.5;  ///< s: samples lost over at most this long leave the energy balance's
+                                 ///< block running (its span counts them); a longer hole ends the block
   // Plausible measurements: beyond them a sample is rejected (counted), never fed.
   double max_torque = 2e5;             ///< N m, |generator torque| and |its reference|
   double max_generator_speed = 400.0;  ///< rad/s
   double max_power = 2e7;              ///< W, |electrical power|
 };
+
+/// The pitch (deg) at which the turbine, at rated rotor speed in `wind` (m/s), gives rated power: beyond
+/// the one it needs at cut-out the rotor is feathering (0 when the wind does not reach rated power).
+double feathering_pitch(const TurbineParams& turbine, double wind);
 
 /// Loads the `drive_train` keys (unknown keys and out-of-range values are ConfigErrors naming file and key);
 /// the drive train's values come from the turbine.

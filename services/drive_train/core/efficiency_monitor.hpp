@@ -28,7 +28,8 @@ struct EfficiencyConfig {
   double clear_ratio = 0.5;           ///< clears when the drop is below this share of `step` ...
   double clear_time = 30.0;           ///< ... for this long (s)
   double min_power_share = 0.05;      ///< a block below this share of rated aerodynamic power is not used
-  double max_pitch = 25.0;            ///< deg; a block whose mean pitch is above it (feathering) is not used
+  double max_pitch = 32.9;            ///< deg; a block whose mean pitch is above it (feathering) is not used
+                                      ///< (the config sets it from the turbine: feathering_pitch)
   double min_generator_speed = 30.0;  ///< rad/s; below it (standstill) a sample is not used
   double iced_inertia_ratio = 1.05;   ///< the reference blocks' fitted rotor inertia over the clean rotor's
                                       ///< above which the rotor is iced, not the gearbox lossy (healthy fits
