@@ -552,6 +552,7 @@ void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
           raised_class_[k] = fault;
           raised_verdict_[k] = fault_type_[k].verdict(cfg_.type_evidence);
           raised_gain_[k] = fault_type_[k].gain();
+          raised_reading_[k] = last_reading_[k];
           below_since_[k] = -1.0;
           // Detected when it could be acted on: the wait for the type counts as detection delay.
           event(true, std::max(above_since_[k], t - cfg_.raise_time));
@@ -564,7 +565,15 @@ void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
       // raised gain clears only where it would still be seen.
       const bool gain_hidden = std::strcmp(raised_class_[k], "sensor_gain") == 0 &&
                                std::fabs(raised_gain_[k] - 1.0) * std::fabs(out_.corrected[k]) < thr;
-      if (stat < cfg_.clear_ratio * thr && !gain_hidden) {
+      // A reading still repeated to the last bit at the value it stuck at is still stuck, whatever the
+      // estimate says: the rotor-speed sensor sticking 94 s into the generator's fault took the observer's
+      // estimate onto the stuck reading, the generator's was cleared 15 s before its end (multi-fault suite
+      // seed 69), and drive_train's energy balance took those seconds of a frozen speed as healthy and raised
+      // a false efficiency_loss.
+      const bool still_stuck = std::strcmp(raised_class_[k], "sensor_stuck") == 0 && cfg_.stuck_samples > 0 &&
+                               reading_repeats_[k] >= cfg_.stuck_samples &&
+                               last_reading_[k] == raised_reading_[k];
+      if (stat < cfg_.clear_ratio * thr && !gain_hidden && !still_stuck) {
         if (below_since_[k] < 0.0) below_since_[k] = t;
         if (t - below_since_[k] >= cfg_.clear_time - 1e-9) {
           raised_[k] = false;

@@ -240,6 +240,8 @@ class BiasEstimator {
   std::array<GainOrOffsetTest, kChannels> fault_type_{};  // gain or offset, since the channel's onset
   std::array<GainOrOffsetTest::Verdict, kChannels> raised_verdict_{};
   std::array<double, kChannels> raised_gain_{};
+  std::array<double, kChannels>
+      raised_reading_{};  // the reading when the fault was raised (a stuck one's value)
   /// Exponentially weighted least squares of r = b - tau v (r = pitch - reference, v = reference rate).
   struct OffsetFit {
     double s11 = 0, s1v = 0, svv = 0, s1r = 0, svr = 0;

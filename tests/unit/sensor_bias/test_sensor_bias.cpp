@@ -590,6 +590,25 @@ TEST(ObserverMode, AStuckSpeedSensorIsSensorStuckAndABiasStaysSensorBias) {
   }
 }
 
+TEST(ObserverMode, AStuckSpeedSensorStaysRaisedWhileItsTwinSticksToo) {
+  // GIVEN the generator speed reading stuck at 88 rad/s (10 above the truth) from 150 to 264 s at 6.5 m/s,
+  // turbulence 0.16, and the rotor speed's stuck at 0.98 rad/s (its own 16 % above) from 243 s (as on suite
+  // seed 69: the second stuck sensor takes the model-free differential that confirms the first one away,
+  // and the first was cleared at 249 s, still stuck at 88 rad/s, 16 rad/s from its estimate)
+  auto generator = plant::FaultSpec::make("WT01", "generator_speed", "stuck", 150.0).with_value(87.9);
+  generator.end = 264.0;
+  auto rotor = plant::FaultSpec::make("WT01", "rotor_speed", "stuck", 243.0).with_value(0.979);
+  const PlantRun r = run_plant(6.5, 330.0, {generator, rotor}, Mode::kObserver, 69, 0.16);
+  const FaultEvent *raised = nullptr, *cleared = nullptr;
+  for (const auto& e : r.events)
+    if (e.component == "generator_speed_sensor") (e.raised ? raised : cleared) = &e;
+  // THEN the generator speed is reported stuck within 5 s and cleared only after its reading moves again
+  ASSERT_NE(raised, nullptr);
+  EXPECT_EQ(raised->fault, "sensor_stuck");
+  EXPECT_LE(raised->t, 155.0);
+  if (cleared) EXPECT_GE(cleared->t, 264.0) << cleared->detail;
+}
+
 TEST(ObserverMode, AGainFaultIsSensorGainWithItsGain) {
   // GIVEN the benchmark's gain faults (generator speed 0.9, pitch 1.2, rotor speed 1.1) and gains of other
   // size and sign, from 150 s, at winds where the quantity moves (the pitch above rated); among them pitch
