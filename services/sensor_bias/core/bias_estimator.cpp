@@ -433,7 +433,7 @@ double BiasEstimator::OffsetFit::offset() const {
 }
 
 const char* BiasEstimator::fault_class(std::size_t k, double waited) {
-  if (cfg_.stuck_samples > 0 && reading_repeats_[k] >= cfg_.stuck_samples) return "sensor_stuck";
+  if (reading_stuck(k)) return "sensor_stuck";
   if (cfg_.type_evidence <= 0.0) return "sensor_bias";
   // A pitch error that is neither an offset nor a gain of the reading (the full model fits far better than
   // either) is the blade's dynamics: a slow actuator answers the IPC's 1P swing with less amplitude while its
@@ -566,12 +566,11 @@ void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
       const bool gain_hidden = std::strcmp(raised_class_[k], "sensor_gain") == 0 &&
                                std::fabs(raised_gain_[k] - 1.0) * std::fabs(out_.corrected[k]) < thr;
       // A reading still repeated to the last bit at the value it stuck at is still stuck, whatever the
-      // estimate says: the rotor-speed sensor sticking 94 s into the generator's fault took the observer's
+      // estimate says: the rotor-speed sensor sticking 93 s into the generator's fault took the observer's
       // estimate onto the stuck reading, the generator's was cleared 15 s before its end (multi-fault suite
       // seed 69), and drive_train's energy balance took those seconds of a frozen speed as healthy and raised
       // a false efficiency_loss.
-      const bool still_stuck = std::strcmp(raised_class_[k], "sensor_stuck") == 0 && cfg_.stuck_samples > 0 &&
-                               reading_repeats_[k] >= cfg_.stuck_samples &&
+      const bool still_stuck = std::strcmp(raised_class_[k], "sensor_stuck") == 0 && reading_stuck(k) &&
                                last_reading_[k] == raised_reading_[k];
       if (stat < cfg_.clear_ratio * thr && !gain_hidden && !still_stuck) {
         if (below_since_[k] < 0.0) below_since_[k] = t;

@@ -236,12 +236,16 @@ class BiasEstimator {
   // raised.
   std::array<double, kChannels> last_reading_{};
   std::array<int, kChannels> reading_repeats_{};
+  /// The channel's reading has repeated to the last bit for stuck_samples: a stuck sensor.
+  bool reading_stuck(std::size_t k) const {
+    return cfg_.stuck_samples > 0 && reading_repeats_[k] >= cfg_.stuck_samples;
+  }
   std::array<const char*, kChannels> raised_class_{};
   std::array<GainOrOffsetTest, kChannels> fault_type_{};  // gain or offset, since the channel's onset
   std::array<GainOrOffsetTest::Verdict, kChannels> raised_verdict_{};
   std::array<double, kChannels> raised_gain_{};
-  std::array<double, kChannels>
-      raised_reading_{};  // the reading when the fault was raised (a stuck one's value)
+  // The reading when the fault was raised (a stuck one's value).
+  std::array<double, kChannels> raised_reading_{};
   /// Exponentially weighted least squares of r = b - tau v (r = pitch - reference, v = reference rate).
   struct OffsetFit {
     double s11 = 0, s1v = 0, svv = 0, s1r = 0, svr = 0;
