@@ -54,8 +54,11 @@ void DiagnosticNode::take_context() {
     const std::array<double, 3> rates{c.pitch_rate_limit()[0], c.pitch_rate_limit()[1],
                                       c.pitch_rate_limit()[2]};
     // Also the first configuration seen (a service restarted on a stopped or derated turbine).
-    if (last != content)
+    if (last != content) {
       contexts_.try_emplace(c.turbine_id(), service_).first->second.on_reconfiguration(stopped, rates);
+      spdlog::info("{}: configuration r{} of t {:.2f} s: {}pitch rate limits {}/{}/{} deg/s", c.turbine_id(),
+                   c.revision(), c.t(), stopped ? "safe stop, " : "", rates[0], rates[1], rates[2]);
+    }
     last = content;
   }
 }

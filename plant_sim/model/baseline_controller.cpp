@@ -55,7 +55,8 @@ ControllerOutput BaselineController::step(double t, const ControlInput& in, cons
     out.torque_ref = stop_torque_;
     out.pitch_ref = {p_.pitch_max, p_.pitch_max, p_.pitch_max};
     pitch_integral_ = p_.pitch_max;
-    pitch_ref_ = out.pitch_ref;
+    pitch_ref_ = derated(out.pitch_ref, in);
+    out.pitch_ref = pitch_ref_;
     return out;
   }
   stop_torque_ = -1;
@@ -103,8 +104,24 @@ ControllerOutput BaselineController::step(double t, const ControlInput& in, cons
     out.pitch_ref[i] =
         std::clamp(collective + ipc_d_ * std::cos(psi) + ipc_q_ * std::sin(psi), p_.pitch_min, p_.pitch_max);
   }
-  pitch_ref_ = out.pitch_ref;
+  pitch_ref_ = derated(out.pitch_ref, in);
+  out.pitch_ref = pitch_ref_;
   return out;
+}
+
+std::array<double, 3> BaselineController::derated(std::array<double, 3> demand,
+                                                  const ControlInput& in) const {
+  // The arbiter's derate limits the controller's own demand, as a turbine controller's rate limiter does
+  // (the actuator's rate limit is the hardware's): the actuator follows the demand it gets and the frames
+  // report. Limited in the actuator instead, a derated blade lagged a demand the frames did not show, and a
+  // service whose configuration arrived late read the lag as a pitch-sensor offset (reliability campaign,
+  // pitch_diag killed at 17 m/s).
+  for (std::size_t i = 0; i < 3; ++i) {
+    const double step = in.pitch_rate_limit[i] * dt_;
+    if (in.pitch_rate_limit[i] < p_.pitch_rate_limit)
+      demand[i] = std::clamp(demand[i], pitch_ref_[i] - step, pitch_ref_[i] + step);
+  }
+  return demand;
 }
 
 bool BaselineController::ipc_moments(double t, const ControlInput& in, const FrameSample& m,

@@ -19,7 +19,7 @@ using control::OperatingMode;
 struct ControlInput {
   OperatingMode mode = OperatingMode::kNormal;
   IpcSource ipc_source = IpcSource::kStrainGauge;
-  std::array<double, 3> pitch_rate_limit{10.0, 10.0, 10.0};  ///< deg/s per blade
+  std::array<double, 3> pitch_rate_limit{10.0, 10.0, 10.0};  ///< deg/s per blade, limits the pitch demand
   bool use_corrected_generator_speed = false;
   double corrected_generator_speed = kNaN;  ///< rad/s, from wt/estimate/sensor_bias
   double inertia = 0.0;              ///< kg m^2 generator side for the ice-adapted controller (0: nominal)
@@ -66,6 +66,8 @@ class BaselineController {
   /// The 1P blade loads IPC acts on, from the source the arbiter chose; false when they are not known.
   bool ipc_moments(double t, const ControlInput& input, const FrameSample& measured,
                    std::array<double, 3>& moment) const;
+  /// The demand moved from the last one no faster than the arbiter's per-blade rate limit.
+  std::array<double, 3> derated(std::array<double, 3> demand, const ControlInput& input) const;
 
   TurbineParams p_;
   AeroModel aero_;

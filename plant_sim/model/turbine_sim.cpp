@@ -237,8 +237,8 @@ void TurbineSim::advance(const ControlInput& input, bool inject) {
     gen_torque_ += (ref.torque_ref - gen_torque_) * conv;
     drive_train_.step(p_, rotor_inertia, eta, t_aero, gen_torque_ + torque_offset, h_sub);
     for (int b = 0; b < 3; ++b)
-      actuator_[b].step(ref.pitch_ref[b], h_sub, wn[b], zeta[b],
-                        std::min(p_.pitch_rate_limit, input.pitch_rate_limit[b]), p_.pitch_min, p_.pitch_max);
+      actuator_[b].step(ref.pitch_ref[b], h_sub, wn[b], zeta[b], p_.pitch_rate_limit, p_.pitch_min,
+                        p_.pitch_max);
     azimuth_ += omega_r * h_sub;
   }
   azimuth_ = std::fmod(azimuth_, 2.0 * M_PI);
