@@ -164,4 +164,19 @@ double AeroModel::moment_coefficient(double lambda, double pitch_deg) const {
          fx * ((1 - fy) * at(i + 1, j) + fy * at(i + 1, j + 1));
 }
 
+double feathering_pitch(const TurbineParams& turbine, double wind) {
+  // Bisection: Cp falls as the pitch rises at a fixed tip-speed ratio above fine pitch.
+  const AeroModel aero(turbine);
+  const double rotor_speed = turbine.rated_generator_speed / turbine.gear_ratio;
+  const double rated_aero =
+      turbine.rated_power / (turbine.generator_efficiency * turbine.drive_train_efficiency);
+  double low = 0.0, high = turbine.pitch_max;
+  if (aero.aero_power(wind, rotor_speed, low) <= rated_aero) return low;
+  for (int i = 0; i < 50; ++i) {
+    const double mid = 0.5 * (low + high);
+    (aero.aero_power(wind, rotor_speed, mid) > rated_aero ? low : high) = mid;
+  }
+  return low;
+}
+
 }  // namespace windfdi

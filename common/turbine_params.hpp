@@ -91,4 +91,9 @@ class AeroModel {
   std::vector<double> table_;  // kM, row-major over (lambda, pitch)
 };
 
+/// The pitch (deg) at which the turbine, at rated rotor speed in `wind` (m/s), gives rated power: beyond
+/// the one it needs past cut-out the rotor is feathering (0 when the wind does not reach rated power). The
+/// services judge no sample pitched further (the power model of a feathering rotor does not hold).
+double feathering_pitch(const TurbineParams& turbine, double wind);
+
 }  // namespace windfdi

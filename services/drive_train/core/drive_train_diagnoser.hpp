@@ -37,10 +37,6 @@ struct DiagnoserConfig {
   double max_power = 2e7;              ///< W, |electrical power|
 };
 
-/// The pitch (deg) at which the turbine, at rated rotor speed in `wind` (m/s), gives rated power: beyond
-/// the one it needs at cut-out the rotor is feathering (0 when the wind does not reach rated power).
-double feathering_pitch(const TurbineParams& turbine, double wind);
-
 /// Loads the `drive_train` keys (unknown keys and out-of-range values are ConfigErrors naming file and key);
 /// the drive train's values come from the turbine.
 DiagnoserConfig load_diagnoser_config(const YamlSection& section, const TurbineParams& turbine);

@@ -34,7 +34,10 @@ struct DetectorConfig {
   double confirm_time = 10.0;  ///< s of fresh estimates, from a half-full median, above a level to raise it
   /// s of them above the warning level before a rotor with no ice reported gets its first report, always the
   /// warning (further levels then take confirm_time each)
-  double first_confirm_time = 60.0;
+  double first_confirm_time = 10.0;
+  /// The first warning also needs this much evidence: the fresh seconds' rise above the warning level,
+  /// summed, each second below taking its shortfall back (share of J0 times s; 0: first_confirm_time alone)
+  double first_evidence = 1.0;
   /// The first warning also needs a rise of this many standard deviations of the clean rotor's estimate,
   /// learned from its fall below J0 (ice only raises the inertia, so that half is the estimator's error
   /// alone); 0: warning_rise alone
@@ -71,7 +74,10 @@ struct DetectorConfig {
               ///< estimate is too noisy to see it; later, but before the accretion clears). 0: off
   double min_generator_speed = 30.0;  ///< rad/s below which the estimator is not fed (standstill)
   double min_gen_torque = 3000.0;     ///< N m; below it the turbine is not producing (stopping): not fed
-  double max_pitch = 30.0;            ///< deg; above it (feathering) the power model is not trusted: not fed
+  /// m/s; samples pitched beyond what the turbine needs for rated power at rated speed in this wind
+  /// (feathering, stopping: the power model is not trusted) are not fed
+  double max_pitch_wind = 28.0;
+  double max_pitch = 30.0;  ///< deg, that pitch: the loaded configuration takes it from the turbine
   /// s: samples lost over at most this long are bridged (the estimators fed the straight line between the
   /// samples either side) instead of restarting a regression of `window` s (0: every gap restarts it)
   double max_bridged_gap = 0.5;
@@ -162,6 +168,7 @@ class IceDetector {
   double above_fresh_ =
       0.0;  // fresh seconds above the next level since above_since_ (from a half-full median)
   double critical_evidence_ = 0.0;  // s of fresh estimates above the stop level in the current run
+  double first_evidence_ = 0.0;     // a clean rotor's rise above the warning level, summed (first_evidence)
   bool fresh_ = false;              // this second's estimate entered the median
   double shed_raised_at_ = -1.0;
   uint64_t power_changes_seen_ = 0;
