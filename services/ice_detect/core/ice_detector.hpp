@@ -34,7 +34,7 @@ struct DetectorConfig {
   double confirm_time = 10.0;  ///< s of fresh estimates, from a half-full median, above a level to raise it
   /// s of them above the warning level before a rotor with no ice reported gets its first report, always the
   /// warning (further levels then take confirm_time each)
-  double first_confirm_time = 10.0;
+  double first_confirm_time = 60.0;
   /// The first warning also needs this much evidence: the fresh seconds' rise above the warning level,
   /// summed, each second below taking its shortfall back (share of J0 times s; 0: first_confirm_time alone)
   double first_evidence = 1.0;
