@@ -463,8 +463,8 @@ void IceDetector::level_events(double t, std::vector<FaultEvent>& events) {
   if (level < 3) critical_evidence_ = 0.0;
   // A clean rotor's first warning also needs first_evidence: the rise above its level summed over fresh
   // seconds, a second below taking its shortfall back. Near its rated wind the example 2 MW rotor's estimate
-  // jumped to +5-6.5 % for about a minute and fell back (a gust passing the 120 s window), which a minute
-  // above the level took for ice; ice stays, and a dip of its estimate only takes a little back.
+  // jumped to +5-6.5 % for about a minute and fell back within about a window, which a minute above the
+  // level took for ice; ice stays, and a dip of its estimate only takes a little back.
   if (raised_level_ > 0) {
     first_evidence_ = 0.0;
   } else if (fresh_ && 2 * recent_.size() >= static_cast<std::size_t>(cfg_.median_estimates)) {
