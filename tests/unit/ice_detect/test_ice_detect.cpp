@@ -16,6 +16,8 @@ using namespace windfdi::ice_detect;
 namespace {
 
 YamlSection defaults() { return YamlSection(YAML::Node(YAML::NodeType::Map), "(defaults)"); }
+/// The keys in `yaml` over the defaults (a test's configuration, named x.yaml in its errors).
+YamlSection config(const char* yaml) { return YamlSection(YAML::Load(yaml), "x.yaml"); }
 
 // The estimator on the bare one-mass model: no efficiency, friction or filter. The synthetic speed swings are
 // gentler than turbulence (0.5-2 rad/s of predicted speed change), so the excitation gate is the paper's
@@ -241,8 +243,7 @@ TEST(IceDetector, AShortHoleOfLostSamplesIsBridgedNotARestart) {
   EXPECT_LT(bridged.events.front().t, 1200.0);
   // ... where restarting the 120 s regression on every hole (max_bridged_gap 0) never estimates at all
   const auto restarted =
-      run_plant(10.0, 1500, true, {f}, 0.0, 7, YamlSection(YAML::Load("max_bridged_gap: 0"), "x.yaml"), {},
-                TurbineParams{}, losses);
+      run_plant(10.0, 1500, true, {f}, 0.0, 7, config("max_bridged_gap: 0"), {}, TurbineParams{}, losses);
   EXPECT_TRUE(restarted.events.empty()) << restarted.events.front().fault;
   EXPECT_EQ(restarted.estimates, 0);
   // AND a healthy hour with the same losses raises nothing
@@ -309,8 +310,8 @@ TEST(IceDetector, SheddingIsSeenInTheInertiaAloneToo) {
   // 10 m/s: there the estimate of the 3 t read below 1750 kg for 30 s just before the drop, the accretion
   // cleared, and without ice reported nothing can be shed: the Cp witness does not need that.)
   for (const auto& [wind, seed] : {std::pair{10.0, 36}, {12.0, 36}, {10.0, 37}, {12.0, 37}}) {
-    const auto r = run_plant(wind, 1100, true, {shedding(0.9, 700)}, 3000.0, seed,
-                             YamlSection(YAML::Load("shed_power_step: 0"), "x.yaml"));
+    const auto r =
+        run_plant(wind, 1100, true, {shedding(0.9, 700)}, 3000.0, seed, config("shed_power_step: 0"));
     // THEN the fast inertia estimate's drop raises ice_shedding within 3 minutes
     const FaultEvent* e = shedding_raised(r, 700.0, 880.0);
     ASSERT_NE(e, nullptr) << wind << " m/s seed " << seed << "\n" << describe(r);
@@ -347,7 +348,7 @@ TEST(IceDetector, OnARotorWhoseIceChangesNoCpTheReportedEstimateSeesTheShedding)
     for (uint64_t seed : {41u, 42u, 43u}) {
       const auto r = run_plant(wind, 1400, true, {shedding(0.7, 1000)}, 1000.0, seed, defaults(), {}, p);
       const auto without = run_plant(wind, 1400, true, {shedding(0.7, 1000)}, 1000.0, seed,
-                                     YamlSection(YAML::Load("shed_slow_window: 0"), "x.yaml"), {}, p);
+                                     config("shed_slow_window: 0"), {}, p);
       // THEN no shedding is raised before the drop, and it is raised within 300 s of it in at least five of
       // the six runs (the slow route: the reported estimate fell 5 % of J0 within 300 s from a value with ice
       // reported at severity fault) ...
@@ -387,8 +388,7 @@ TEST(IceDetector, WithACleanPowerSignalA5PercentSheddingIsSeenFromTheInertiaAlon
                 e->detail.c_str());
     within_a_minute += e->t - 1500.0 <= 60.0;
     // (with the fixed 5 % threshold and 45 s confirmation, shed_sigmas 0, it takes minutes or is missed)
-    const auto fixed = run_plant(wind, 1800, false, {shed}, iced, 700,
-                                 YamlSection(YAML::Load("shed_sigmas: 0"), "x.yaml"), {}, p);
+    const auto fixed = run_plant(wind, 1800, false, {shed}, iced, 700, config("shed_sigmas: 0"), {}, p);
     const FaultEvent* f = shedding_raised(fixed, 1500.0, 1800.0);
     fixed_within_a_minute += f != nullptr && f->t - 1500.0 <= 60.0;
   }
@@ -439,8 +439,7 @@ TEST(IceDetector, AnExcursionOfTheEstimateOnACleanRotorIsNoFirstReport) {
   EXPECT_TRUE(r.events.empty()) << describe(r);
   // ... where confirm_time alone (10 s, before) raised the warning at 2850 s
   const auto before =
-      run_turbine(t, 3000, true, {}, 40009,
-                  YamlSection(YAML::Load("{first_confirm_time: 10, first_evidence: 0}"), "x.yaml"), {}, p);
+      run_turbine(t, 3000, true, {}, 40009, config("{first_confirm_time: 10, first_evidence: 0}"), {}, p);
   EXPECT_FALSE(before.events.empty()) << "the excursion no longer happens: this test no longer tests";
 }
 
@@ -448,7 +447,7 @@ TEST(IceDetector, AMinuteLongExcursionNearRatedWindIsNoFirstReportWhereIceThatSt
   // GIVEN the example 2 MW turbine's clean rotor at 12 m/s, just above its rated wind, as the multi-fault
   // suite's healthy scenario 73_02 runs it (TI 0.099, turbine WT02, seed 73002): the speed is held at rated
   // by the pitch and the estimate jumps from +2 % to +6.5 % of J0 in 40 s near 2170 s, stays above the
-  // 4.65 % warning for about 65 s and falls back (the 120 s regression's window passing a gust)
+  // 4.65 % warning for about 65 s and falls back within about the 120 s regression's window
   const TurbineParams p = example_2mw();
   const plant::TurbineScenario t = healthy_suite_turbine("WT02", 12.0, 0.099, 0.123, 0.03);
   const auto r = run_turbine(t, 2400, true, {}, 73002, defaults(), {}, p);
@@ -458,8 +457,7 @@ TEST(IceDetector, AMinuteLongExcursionNearRatedWindIsNoFirstReportWhereIceThatSt
   EXPECT_TRUE(r.events.empty()) << describe(r);
   // ... where a minute above the level (first_confirm_time 60 s, without the evidence) raised it
   const auto before =
-      run_turbine(t, 2400, true, {}, 73002,
-                  YamlSection(YAML::Load("{first_confirm_time: 60, first_evidence: 0}"), "x.yaml"), {}, p);
+      run_turbine(t, 2400, true, {}, 73002, config("{first_confirm_time: 60, first_evidence: 0}"), {}, p);
   ASSERT_FALSE(before.events.empty()) << "the excursion no longer happens: this test no longer tests";
   EXPECT_EQ(before.events.front().fault, "ice_accretion");
   // AND 7 % of ice that stays (850 kg from 600 s over 300 s), the same wind, is still reported
@@ -482,10 +480,9 @@ TEST(IceDetector, AtLowTurbulenceTheFirstWarningMustStandOutOfTheCleanRotorsOwnE
   EXPECT_TRUE(r.events.empty()) << describe(r);
   // ... where the warning level alone raised it (with a minute above it as the first report's only
   // confirmation, as when this was written)
-  const auto fixed = run_turbine(
-      t, 1500, true, {}, 51009,
-      YamlSection(YAML::Load("{warning_sigmas: 0, first_confirm_time: 60, first_evidence: 0}"), "x.yaml"), {},
-      TurbineParams{});
+  const auto fixed = run_turbine(t, 1500, true, {}, 51009,
+                                 config("{warning_sigmas: 0, first_confirm_time: 60, first_evidence: 0}"), {},
+                                 TurbineParams{});
   ASSERT_FALSE(fixed.events.empty()) << "the excursion no longer happens: this test no longer tests";
   EXPECT_EQ(fixed.events.front().fault, "ice_accretion");
 }
@@ -651,13 +648,10 @@ TEST(IceDetector, TheIceLevelsAreTheTurbinesOwnInertiaRise) {
 }
 
 TEST(IceDetector, ConfigRejectsUnknownKeysAndBadRanges) {
-  EXPECT_THROW(load_detector_config(YamlSection(YAML::Load("windw: 60"), "x.yaml"), TurbineParams{}),
-               ConfigError);
-  EXPECT_THROW(load_detector_config(YamlSection(YAML::Load("fault_rise: 0.01"), "x.yaml"), TurbineParams{}),
+  EXPECT_THROW(load_detector_config(config("windw: 60"), TurbineParams{}), ConfigError);
+  EXPECT_THROW(load_detector_config(config("fault_rise: 0.01"), TurbineParams{}),
                ConfigError);  // below warning_rise
-  EXPECT_EQ(
-      load_detector_config(YamlSection(YAML::Load("window: 90"), "x.yaml"), TurbineParams{}).estimator.window,
-      90.0);
+  EXPECT_EQ(load_detector_config(config("window: 90"), TurbineParams{}).estimator.window, 90.0);
 }
 
 TEST(IceDetector, TheFeatheredPitchIsTheTurbinesOwn) {
@@ -672,7 +666,7 @@ TEST(IceDetector, TheFeatheredPitchIsTheTurbinesOwn) {
   EXPECT_LT(feathering_pitch(two, 25.0), load_detector_config(shipped, two).max_pitch);
   EXPECT_GT(feathering_pitch(two, 25.0), 30.0);
   // ... and the fixed key is gone: a configuration that still sets it is told so
-  EXPECT_THROW(load_detector_config(YamlSection(YAML::Load("max_pitch: 30"), "x.yaml"), bench), ConfigError);
+  EXPECT_THROW(load_detector_config(config("max_pitch: 30"), bench), ConfigError);
 }
 
 }  // namespace

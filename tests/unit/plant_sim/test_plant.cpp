@@ -213,16 +213,15 @@ TEST(PitchDerate, TheDemandIsLimitedAndTheDeratedBladeTracksTheDemandItIsGiven) 
   TurbineSim sim(TurbineParams{}, steady(17.0, 0.2, 0.16), {}, 4, 100.0, ControllerParams{}, no_noise());
   ControlInput derated;
   derated.pitch_rate_limit = {10.0, 5.0, 10.0};
-  double previous = 0.0, fastest_derated = 0.0, fastest_free = 0.0, previous_free = 0.0;
-  double worst_lag = 0.0, worst_free_lag = 0.0;
+  std::array<double, 3> last_demand{};
+  double fastest_derated = 0.0, fastest_free = 0.0, worst_lag = 0.0, worst_free_lag = 0.0;
   for (int k = 0; k < 60000; ++k) {
     const auto& s = sim.step(derated);
     if (k > 0) {
-      fastest_derated = std::max(fastest_derated, std::fabs(s.pitch_ref[1] - previous) * 100.0);
-      fastest_free = std::max(fastest_free, std::fabs(s.pitch_ref[0] - previous_free) * 100.0);
+      fastest_derated = std::max(fastest_derated, std::fabs(s.pitch_ref[1] - last_demand[1]) * 100.0);
+      fastest_free = std::max(fastest_free, std::fabs(s.pitch_ref[0] - last_demand[0]) * 100.0);
     }
-    previous = s.pitch_ref[1];
-    previous_free = s.pitch_ref[0];
+    last_demand = s.pitch_ref;
     if (k < 1000) continue;
     worst_lag = std::max(worst_lag, std::fabs(sim.truth().pitch[1] - s.pitch_ref[1]));
     worst_free_lag = std::max(worst_free_lag, std::fabs(sim.truth().pitch[0] - s.pitch_ref[0]));
