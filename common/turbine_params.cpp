@@ -9,6 +9,12 @@ namespace windfdi {
 
 double TurbineParams::rotor_area() const { return M_PI * rotor_radius * rotor_radius; }
 
+double TurbineParams::rated_generator_torque() const {
+  return rated_power / (generator_efficiency * rated_generator_speed);
+}
+
+double TurbineParams::rated_rotor_speed() const { return rated_generator_speed / gear_ratio; }
+
 double TurbineParams::lumped_inertia(double extra_rotor_inertia) const {
   const double n2 = gear_ratio * gear_ratio;
   return (rotor_inertia + extra_rotor_inertia + n2 * generator_inertia) / n2;

@@ -43,6 +43,10 @@ struct TurbineParams {
   /// Lumped inertia referred to the generator side, (J_r + N^2 J_g) / N^2 (Stotsky & Egardt 2013, errata in
   /// docs/papers.md), kg m^2.
   double lumped_inertia(double extra_rotor_inertia = 0.0) const;
+  /// N m, the generator torque at rated power and rated generator speed, P / (eta_g omega_g): the scale of
+  /// torque levels that must hold on any turbine
+  double rated_generator_torque() const;
+  double rated_rotor_speed() const;  ///< rad/s, rated_generator_speed / N_g
 };
 
 /// Reads a turbine file; unknown keys and out-of-range values are ConfigErrors naming file and key.

@@ -6,7 +6,9 @@
 #include <limits>
 #include <tuple>
 
+#include "deploy_dir.hpp"
 #include "names.hpp"
+#include "turbine_params.hpp"
 
 namespace windfdi::arbiter {
 
@@ -14,23 +16,38 @@ ArbiterConfig load_arbiter_config(const YamlSection& s) {
   s.require_known_keys({"clear_hold", "nominal_pitch_rate", "derated_pitch_rate", "rotor_speed_bias_limit",
                         "generator_speed_bias_limit", "pitch_bias_limit", "has_lidar", "inertia_step",
                         "stop_confirm_time", "class_settle_time", "isolation_lead", "isolation_common_window",
-                        "efficiency_derate_drop", "max_torque_compensation"});
+                        "efficiency_derate_drop", "max_torque_compensation", "turbine_file",
+                        "rotor_speed_bias_limit_share", "generator_speed_bias_limit_share",
+                        "torque_compensation_share"});
   ArbiterConfig c;
   c.clear_hold = s.get_number("clear_hold", c.clear_hold, 0.0, 3600.0);
   c.nominal_pitch_rate = s.get_number("nominal_pitch_rate", c.nominal_pitch_rate, 1.0, 30.0);
   c.derated_pitch_rate = s.get_number("derated_pitch_rate", c.derated_pitch_rate, 0.5, 30.0);
   if (c.derated_pitch_rate > c.nominal_pitch_rate)
     throw s.error("derated_pitch_rate", "must not exceed nominal_pitch_rate");
-  c.rotor_speed_bias_limit = s.get_number("rotor_speed_bias_limit", c.rotor_speed_bias_limit, 0.0, 10.0);
-  c.generator_speed_bias_limit =
-      s.get_number("generator_speed_bias_limit", c.generator_speed_bias_limit, 0.0, 1000.0);
+  // Speed and torque limits are shares of the turbine's rated values (the absolute keys override them): a
+  // 0.1 rad/s rotor speed bias is 5.9 % of the benchmark rotor's rated speed but 13 % of a rotor rated at 7.5
+  // rpm.
+  const TurbineParams turbine =
+      load_turbine_params_file(s.get_path("turbine_file", deploy_dir() + "/turbine/benchmark_4.8MW.yaml"));
+  c.rotor_speed_bias_limit = s.get_number(
+      "rotor_speed_bias_limit",
+      s.get_number("rotor_speed_bias_limit_share", 0.0586, 0.0, 1.0) * turbine.rated_rotor_speed(), 0.0,
+      10.0);
+  c.generator_speed_bias_limit = s.get_number(
+      "generator_speed_bias_limit",
+      s.get_number("generator_speed_bias_limit_share", 0.0617, 0.0, 1.0) * turbine.rated_generator_speed, 0.0,
+      1000.0);
   c.pitch_bias_limit = s.get_number("pitch_bias_limit", c.pitch_bias_limit, 0.0, 90.0);
   c.has_lidar = s.get<bool>("has_lidar", c.has_lidar);
   c.inertia_step = s.get_number("inertia_step", c.inertia_step, 0.0, 0.5);
   c.stop_confirm_time = s.get_number("stop_confirm_time", c.stop_confirm_time, 0.0, 600.0);
   c.class_settle_time = s.get_number("class_settle_time", c.class_settle_time, 0.0, 3600.0);
   c.efficiency_derate_drop = s.get_number("efficiency_derate_drop", c.efficiency_derate_drop, 0.0, 1.0);
-  c.max_torque_compensation = s.get_number("max_torque_compensation", c.max_torque_compensation, 0.0, 1e5);
+  c.max_torque_compensation = s.get_number(
+      "max_torque_compensation",
+      s.get_number("torque_compensation_share", 0.0662, 0.0, 1.0) * turbine.rated_generator_torque(), 0.0,
+      1e6);
   c.isolation.lead = s.get_number("isolation_lead", c.isolation.lead, 0.0, 600.0);
   c.isolation.common_window = s.get_number("isolation_common_window", c.isolation.common_window, 0.0, 600.0);
   return c;

@@ -12,7 +12,7 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
                         "noise_learn_time", "noise_floor", "witness_ratio", "offset_clear_time",
                         "block_time", "test_time", "reference_gap", "reference_time", "efficiency_step",
                         "efficiency_clear_ratio", "efficiency_clear_time", "min_power_share", "max_pitch_wind",
-                        "min_generator_speed", "max_torque", "max_generator_speed", "max_power",
+                        "min_generator_speed", "min_generator_speed_share", "max_torque", "max_generator_speed", "max_power",
                         "sample_time", "iced_inertia_ratio", "context_lookback",
                         "max_bridged_gap"});
   // clang-format on
@@ -45,7 +45,12 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
   e.min_power_share = s.get_number("min_power_share", e.min_power_share, 0.0, 1.0);
   c.max_pitch_wind = s.get_number("max_pitch_wind", c.max_pitch_wind, 3.0, 60.0);
   e.max_pitch = feathering_pitch(turbine, c.max_pitch_wind);
-  e.min_generator_speed = s.get_number("min_generator_speed", e.min_generator_speed, 0.0, 1000.0);
+  // A share of the turbine's rated generator speed (min_generator_speed, rad/s, overrides it): the
+  // benchmark's 30 rad/s would leave a medium-speed drive train (52 rad/s rated) little but rated wind.
+  e.min_generator_speed =
+      s.get_number("min_generator_speed",
+                   s.get_number("min_generator_speed_share", 0.185, 0.0, 1.0) * turbine.rated_generator_speed,
+                   0.0, 1000.0);
   e.iced_inertia_ratio = s.get_number("iced_inertia_ratio", e.iced_inertia_ratio, 1.0, 10.0);
   v.min_generator_speed = e.min_generator_speed;
   c.estimate_rate = s.get_number("estimate_rate", c.estimate_rate, 0.01, 100.0);

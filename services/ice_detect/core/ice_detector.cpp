@@ -13,6 +13,7 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
                         "reinit_period",
                         "filter_time",
                         "min_excitation",
+                        "min_excitation_share",
                         "power_gain",
                         "friction",
                         "clean_inertia",
@@ -34,6 +35,7 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
                         "shed_window",
                         "shed_reinit",
                         "shed_min_excitation",
+                        "shed_min_excitation_share",
                         "shed_median",
                         "shed_confirm",
                         "shed_confirm_min",
@@ -46,7 +48,9 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
                         "shed_hold",
                         "shed_slow_window",
                         "min_generator_speed",
+                        "min_generator_speed_share",
                         "min_gen_torque",
+                        "min_torque_share",
                         "max_pitch_wind",
                         "speed_mismatch",
                         "max_bridged_gap",
@@ -68,7 +72,12 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
   e.window = s.get_number("window", e.window, 1.0, 3600.0);
   e.reinit_period = s.get_number("reinit_period", e.reinit_period, 0.5, 3600.0);
   e.filter_time = s.get_number("filter_time", e.filter_time, 0.0, 30.0);
-  e.min_excitation = s.get_number("min_excitation", e.min_excitation, 0.0, 100.0);
+  // Speed and torque levels are shares of the turbine's rated generator speed and torque (the absolute keys,
+  // rad/s and N m, override them): the benchmark's 2 rad/s, 30 rad/s and 3000 N m shut a medium-speed
+  // drive train (rated generator speed 52 rad/s) out of its whole region 2.
+  const double rated_speed = turbine.rated_generator_speed, rated_torque = turbine.rated_generator_torque();
+  e.min_excitation = s.get_number(
+      "min_excitation", s.get_number("min_excitation_share", 0.01235, 0.0, 1.0) * rated_speed, 0.0, 100.0);
   e.power_window = s.get_number("power_window", e.power_window, 0.0, 3600.0);
   e.power_step_window = s.get_number("power_step_window", e.power_step_window, 10.0, e.power_window);
   e.power_step = s.get_number("power_step", e.power_step, 0.0, 0.5);
@@ -95,7 +104,9 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
   c.clear_ratio = s.get_number("clear_ratio", c.clear_ratio, 0.0, 1.0);
   c.shed_window = s.get_number("shed_window", c.shed_window, 1.0, 3600.0);
   c.shed_reinit = s.get_number("shed_reinit", c.shed_reinit, 0.5, 3600.0);
-  c.shed_min_excitation = s.get_number("shed_min_excitation", c.shed_min_excitation, 0.0, 100.0);
+  c.shed_min_excitation =
+      s.get_number("shed_min_excitation",
+                   s.get_number("shed_min_excitation_share", 0.00309, 0.0, 1.0) * rated_speed, 0.0, 100.0);
   c.shed_median = s.get_number("shed_median", c.shed_median, 1.0, 600.0);
   c.shed_confirm = s.get_number("shed_confirm", c.shed_confirm, 0.0, 600.0);
   c.shed_confirm_min = s.get_number("shed_confirm_min", c.shed_confirm_min, 0.0, c.shed_confirm);
@@ -107,8 +118,11 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
   c.shed_min_rise = s.get_number("shed_min_rise", c.shed_min_rise, 0.0, 2.0);
   c.shed_hold = s.get_number("shed_hold", c.shed_hold, 1.0, 3600.0);
   c.shed_slow_window = s.get_number("shed_slow_window", c.shed_slow_window, 0.0, 3600.0);
-  c.min_generator_speed = s.get_number("min_generator_speed", c.min_generator_speed, 0.0, 1000.0);
-  c.min_gen_torque = s.get_number("min_gen_torque", c.min_gen_torque, 0.0, 1e6);
+  c.min_generator_speed =
+      s.get_number("min_generator_speed",
+                   s.get_number("min_generator_speed_share", 0.185, 0.0, 1.0) * rated_speed, 0.0, 1000.0);
+  c.min_gen_torque = s.get_number("min_gen_torque",
+                                  s.get_number("min_torque_share", 0.1, 0.0, 1.0) * rated_torque, 0.0, 1e7);
   c.max_pitch_wind = s.get_number("max_pitch_wind", c.max_pitch_wind, 0.0, 100.0);
   c.max_pitch = feathering_pitch(turbine, c.max_pitch_wind);
   c.max_bridged_gap = s.get_number("max_bridged_gap", c.max_bridged_gap, 0.0, 10.0);

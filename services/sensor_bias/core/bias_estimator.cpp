@@ -71,11 +71,10 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   }
   // The turbine's own scale: a share of its rated speeds and torque, unless given in absolute units.
   const double speed_share = s.get_number("threshold_speed_share", 0.01, 1e-4, 0.5);
-  const double rated_generator_speed = turbine.rated_generator_speed;
-  c.threshold[0] = s.get_number("threshold_rotor_speed",
-                                speed_share * rated_generator_speed / turbine.gear_ratio, 1e-6, 5.0);
+  c.threshold[0] =
+      s.get_number("threshold_rotor_speed", speed_share * turbine.rated_rotor_speed(), 1e-6, 5.0);
   c.threshold[1] =
-      s.get_number("threshold_generator_speed", speed_share * rated_generator_speed, 1e-4, 400.0);
+      s.get_number("threshold_generator_speed", speed_share * turbine.rated_generator_speed, 1e-4, 400.0);
   c.threshold[2] = c.threshold[3] = c.threshold[4] =
       s.get_number("threshold_pitch", c.threshold[2], 1e-4, 90.0);
   c.raise_time = s.get_number("raise_time", c.raise_time, 0.0, 3600.0);
@@ -85,10 +84,9 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   c.settle_time = s.get_number("settle_time", c.settle_time, 0.0, 3600.0);
   c.max_bridged_gap = s.get_number("max_bridged_gap", c.max_bridged_gap, 0.0, 10.0);
   c.reconfiguration_hold = s.get_number("reconfiguration_hold", c.reconfiguration_hold, 0.0, 600.0);
-  const double rated_torque =
-      turbine.rated_power / (turbine.generator_efficiency * turbine.rated_generator_speed);
   c.witness_torque_min = s.get_number(
-      "witness_torque_min", s.get_number("witness_torque_share", 0.1, 0.0, 1.0) * rated_torque, 1.0, 1e9);
+      "witness_torque_min",
+      s.get_number("witness_torque_share", 0.1, 0.0, 1.0) * turbine.rated_generator_torque(), 1.0, 1e9);
   c.max_tracking_error = s.get_number("max_tracking_error", c.max_tracking_error, 0.0, 90.0);
   c.stuck_time = s.get_number("stuck_time", c.stuck_time, 0.0, 60.0);
   c.stuck_samples = static_cast<int>(s.get_number("stuck_samples", c.stuck_samples, 0.0, 100000.0));

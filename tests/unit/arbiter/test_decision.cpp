@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <string>
 
 #include "decision.hpp"
 #include "turbine_clock.hpp"
@@ -328,6 +329,35 @@ TEST(Decision, AdaptedIceCarriesTheInertiaEstimate) {
   EXPECT_DOUBLE_EQ(a.evaluate(1.0).inertia, 4.6e6);
   a.on_inertia(4.6e6 * 1.03);
   EXPECT_DOUBLE_EQ(a.evaluate(2.0).inertia, 4.6e6 * 1.03);
+}
+
+TEST(Decision, SpeedAndTorqueLimitsAreSharesOfTheTurbinesRatedValues) {
+  // GIVEN the shipped configuration, on its benchmark turbine and pointed at the example 2 MW one
+  const std::string deploy = WINDFDI_SOURCE_DEPLOY_DIR;
+  const ArbiterConfig bench = load_arbiter_config(YamlSection::load_file(deploy + "/config/arbiter.yaml"));
+  // THEN the benchmark turbine keeps the limits it had in rad/s and N m ...
+  EXPECT_NEAR(bench.rotor_speed_bias_limit, 0.1, 0.001);
+  EXPECT_NEAR(bench.generator_speed_bias_limit, 10.0, 0.01);
+  EXPECT_NEAR(bench.max_torque_compensation, 2000.0, 5.0);
+  // ... and the 2 MW one gets its own (rated rotor speed 2.25 rad/s, generator 180 rad/s, torque 11.1 kN m)
+  const std::string path = ::testing::TempDir() + "/arbiter_2mw.yaml";
+  {
+    std::ofstream out(path);
+    out << "turbine_file: " << deploy << "/turbine/example_2MW.yaml\n";
+    std::ifstream in(deploy + "/config/arbiter.yaml");
+    for (std::string line; std::getline(in, line);)
+      if (line.rfind("turbine_file:", 0) != 0) out << line << "\n";
+  }
+  const ArbiterConfig two = load_arbiter_config(YamlSection::load_file(path));
+  EXPECT_NEAR(two.rotor_speed_bias_limit, 0.132, 0.001);
+  EXPECT_NEAR(two.generator_speed_bias_limit, 11.1, 0.01);
+  EXPECT_NEAR(two.max_torque_compensation, 736.0, 1.0);
+  // AND the absolute keys override the shares
+  {
+    std::ofstream(path) << "turbine_file: " << deploy
+                        << "/turbine/example_2MW.yaml\nrotor_speed_bias_limit: 0.2\n";
+  }
+  EXPECT_DOUBLE_EQ(load_arbiter_config(YamlSection::load_file(path)).rotor_speed_bias_limit, 0.2);
 }
 
 TEST(Decision, ConfigLoaderRejectsBadValues) {

@@ -83,6 +83,26 @@ double run_synthetic(RegressorMode mode, double phase1, uint64_t seed) {
   return std::sqrt(se / std::max(n, 1));
 }
 
+TEST(MonitorConfig, TheIdlingSpeedAndTheMomentRangeAreTheTurbinesOwn) {
+  // GIVEN the shipped configuration and each shipped turbine
+  const std::string deploy = WINDFDI_SOURCE_DEPLOY_DIR;
+  const YamlSection shipped = YamlSection::load_file(deploy + "/config/blade_load.yaml");
+  const TurbineParams bench{}, two = load_turbine_params_file(deploy + "/turbine/example_2MW.yaml");
+  // THEN the rotor speed below which nothing is monitored is a share of the rated rotor speed (the 0.5 rad/s
+  // tuned on the benchmark rotor would be most of the region 2 of a rotor rated at 7.5 rpm) ...
+  EXPECT_NEAR(load_monitor_config(shipped, bench).min_rotor_speed, 0.5, 0.001);
+  EXPECT_NEAR(load_monitor_config(shipped, two).min_rotor_speed, 0.659, 0.001);
+  // ... and a blade moment is out of range beyond the rotor's own root moment at a thrust coefficient of 1 in
+  // 25 m/s: the 5e7 N m of the benchmark rotor, a third of it on the 2 MW one
+  EXPECT_NEAR(load_monitor_config(shipped, bench).validity.max_moment, 5.08e7, 0.01e7);
+  EXPECT_NEAR(load_monitor_config(shipped, two).validity.max_moment, 1.71e7, 0.01e7);
+  // AND the absolute keys still give them in rad/s and N m
+  const MonitorConfig absolute =
+      load_monitor_config(YamlSection(YAML::Load("min_rotor_speed: 0.4\nmax_moment: 3.0e7"), "x.yaml"), two);
+  EXPECT_DOUBLE_EQ(absolute.min_rotor_speed, 0.4);
+  EXPECT_DOUBLE_EQ(absolute.validity.max_moment, 3.0e7);
+}
+
 TEST(HarmonicEstimator, FourHarmonicsWithNoiseWithinTwoPercent) {
   // GIVEN A = 1, 0.5, 0.3, 0.2 and noise 0.1 at constant speed, window one revolution
   // THEN the paper's cosine regressor (phase 0, as it assumes) and the default cos+sin regressor (any phase)

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <random>
@@ -405,6 +406,32 @@ TEST(DriveTrainDiagnoser, AnEfficiencyStepAtTwentyOneMetresPerSecondIsRaisedOnBo
     EXPECT_GE(raised->t, 300.0) << file << "\n" << describe(r);
     EXPECT_LE(raised->t, 360.0) << file << "\n" << describe(r);
   }
+}
+
+TEST(DriveTrainDiagnoser, OnAMediumSpeedDriveTrainAnEfficiencyStepInLowWindIsRaised) {
+  // GIVEN the example medium-speed 3 MW turbine (its generator at 52 rad/s at rated) at 5.5 m/s, where its
+  // generator turns at about 25 rad/s, with the shipped configuration: the standstill level is a share of the
+  // rated generator speed, 9.6 rad/s here (30 rad/s on the benchmark turbine)
+  const YamlSection yaml = YamlSection::load_file(kDeploy + "/config/drive_train.yaml");
+  const TurbineParams medium = load_turbine_params_file(kDeploy + "/turbine/example_3MW_medium_speed.yaml");
+  const DiagnoserConfig config = load_diagnoser_config(yaml, medium);
+  EXPECT_NEAR(config.efficiency.min_generator_speed, 9.62, 0.01);
+  EXPECT_NEAR(config.converter.min_generator_speed, 9.62, 0.01);
+  EXPECT_NEAR(load_diagnoser_config(yaml, TurbineParams{}).efficiency.min_generator_speed, 30.0, 0.05);
+  const auto r = run_turbine(medium, config, 5.5, 0.06, 480.0, {efficiency(300.0)}, 91);
+  // THEN the efficiency loss is raised within 90 s, nothing before it
+  const FaultEvent* raised = first(r, "efficiency_loss", 0.0);
+  ASSERT_NE(raised, nullptr) << describe(r);
+  EXPECT_GE(raised->t, 300.0) << describe(r);
+  EXPECT_LE(raised->t, 390.0) << describe(r);
+  std::printf("[ measured ] medium speed, 5.5 m/s: efficiency_loss raised %.1f s after the step\n",
+              raised->t - 300.0);
+  // AND with the benchmark turbine's 30 rad/s it is not
+  DiagnoserConfig absolute = config;
+  absolute.efficiency.min_generator_speed = absolute.converter.min_generator_speed = 30.0;
+  EXPECT_EQ(
+      first(run_turbine(medium, absolute, 5.5, 0.06, 480.0, {efficiency(300.0)}, 91), "efficiency_loss", 0.0),
+      nullptr);
 }
 
 // The events of the plant (TI 0.12) through the diagnoser losing 20 samples every 5 s (a loaded host).

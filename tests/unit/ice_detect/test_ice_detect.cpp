@@ -431,15 +431,21 @@ TEST(IceDetector, AnExcursionOfTheEstimateOnACleanRotorIsNoFirstReport) {
   // GIVEN the example 2 MW turbine's clean rotor at 8 m/s as the multi-fault suite's healthy scenario 40_09
   // runs it (TI 0.12, turbine WT01, seed 40009): the reported estimate wanders +-4 % of J0 for minutes and
   // stands 1.01-1.08 times the 4.65 % warning for about 40 s after 2840 s
+  // (with the benchmark turbine's gates in rad/s and N m, under which it was recorded: with this rotor's own,
+  // shares of its rated values, the estimate no longer makes this excursion)
   const TurbineParams p = example_2mw();
   const plant::TurbineScenario t = healthy_suite_turbine("WT01", 8.0, 0.12);
+  const char* gates =
+      "min_excitation: 2.0, min_generator_speed: 30, min_gen_torque: 3000, shed_min_excitation: 0.5";
   // THEN no ice is raised: a clean rotor's first report needs first_confirm_time (60 s) of fresh estimates
   // above the warning ...
-  const auto r = run_turbine(t, 3000, true, {}, 40009, defaults(), {}, p);
+  const auto r =
+      run_turbine(t, 3000, true, {}, 40009, config((std::string("{") + gates + "}").c_str()), {}, p);
   EXPECT_TRUE(r.events.empty()) << describe(r);
   // ... where confirm_time alone (10 s, before) raised the warning at 2850 s
-  const auto before =
-      run_turbine(t, 3000, true, {}, 40009, config("{first_confirm_time: 10, first_evidence: 0}"), {}, p);
+  const auto before = run_turbine(
+      t, 3000, true, {}, 40009,
+      config((std::string("{first_confirm_time: 10, first_evidence: 0, ") + gates + "}").c_str()), {}, p);
   EXPECT_FALSE(before.events.empty()) << "the excursion no longer happens: this test no longer tests";
 }
 
@@ -669,9 +675,54 @@ TEST(IceDetector, TheFeatheredPitchIsTheTurbinesOwn) {
   EXPECT_THROW(load_detector_config(config("max_pitch: 30"), bench), ConfigError);
 }
 
-}  // namespace
+TurbineParams example_3mw_medium_speed() {
+  return load_turbine_params_file(std::string(WINDFDI_SOURCE_DEPLOY_DIR) +
+                                  "/turbine/example_3MW_medium_speed.yaml");
+}
 
-namespace {
+TEST(IceDetector, OnAMediumSpeedDriveTrainItsOwnRatedValuesSetWhereItEstimates) {
+  // GIVEN the example medium-speed 3 MW turbine (its generator at 52 rad/s at rated, a third of the benchmark
+  // turbine's) with the shipped configuration, which gives speed, torque and excitation levels as shares of
+  // the turbine's rated values, and 2000 kg of ice (+8.6 % inertia) accreting over 400-700 s
+  const YamlSection shipped =
+      YamlSection::load_file(std::string(WINDFDI_SOURCE_DEPLOY_DIR) + "/config/ice_detect.yaml");
+  const TurbineParams p = example_3mw_medium_speed();
+  const DetectorConfig c = load_detector_config(shipped, p);
+  EXPECT_NEAR(c.min_generator_speed, 9.62, 0.01);
+  EXPECT_NEAR(c.min_gen_torque, 6010.0, 1.0);
+  EXPECT_NEAR(c.estimator.min_excitation, 0.642, 0.001);
+  // (the benchmark turbine's are the absolute values they replace)
+  const DetectorConfig b = load_detector_config(shipped, TurbineParams{});
+  EXPECT_NEAR(b.min_generator_speed, 30.0, 0.05);
+  EXPECT_NEAR(b.min_gen_torque, 3000.0, 30.0);
+  EXPECT_NEAR(b.estimator.min_excitation, 2.0, 0.01);
+  EXPECT_NEAR(b.shed_min_excitation, 0.5, 0.01);
+  auto ice = plant::FaultSpec::make("WT01", "rotor", "ice_accretion", 400).with_value(2000);
+  ice.ramp_in = 300;
+  const YamlSection absolute =
+      config("min_excitation: 2.0\nmin_generator_speed: 30\nmin_gen_torque: 3000\nshed_min_excitation: 0.5");
+  for (double wind : {7.0, 9.0}) {
+    // THEN the inertia is estimated and the ice raised during or after its accretion, nothing before
+    const auto r = run_plant(wind, 1500, true, {ice}, 0.0, 41, shipped, {}, p);
+    EXPECT_GT(r.estimates, 1000) << wind;
+    ASSERT_FALSE(r.events.empty()) << wind;
+    EXPECT_EQ(r.events.front().fault, "ice_accretion") << describe(r);
+    EXPECT_GT(r.events.front().t, 400.0) << describe(r);
+    EXPECT_LT(r.events.front().t, 1100.0) << describe(r);
+    std::printf(
+        "[ measured ] medium speed, %.0f m/s: ice raised %.0f s after the onset, inertia rms error %.2f %%\n",
+        wind, r.events.front().t - 400.0, 100.0 * r.rms);
+    // AND with the benchmark turbine's absolute levels (2 rad/s of excitation, 30 rad/s, 3000 N m) this
+    // turbine is never estimated: the ice goes unseen
+    const auto a = run_plant(wind, 1500, true, {ice}, 0.0, 41, absolute, {}, p);
+    EXPECT_EQ(a.estimates, 0) << wind;
+    EXPECT_TRUE(a.events.empty()) << describe(a);
+    // AND a healthy hour raises nothing
+    const auto h = run_plant(wind, 3600, true, {}, 0.0, 43, shipped, {}, p);
+    EXPECT_GT(h.estimates, 3000) << wind;
+    EXPECT_TRUE(h.events.empty()) << describe(h);
+  }
+}
 
 TEST(IceDetector, AStoppingTurbineRaisesNoIce) {
   // GIVEN a turbine in 16 m/s ordered to a safe stop at 600 s (feather, torque to zero)
