@@ -117,8 +117,11 @@ ServiceSpec blade_load_spec() {
     // Relative files are taken beside the configuration file.
     state->turbine = configured_turbine(cfg);
     state->config = load_monitor_config(cfg, state->turbine);
-    state->table = LoadTable::load_csv(
-        cfg.get_path("load_table_file", deploy_dir() + "/turbine/benchmark_4.8MW_load_table.csv"));
+    // A table of the turbine's own model unless a (measured) table is given: a table made for another rotor
+    // reads every blade's load wrong by the ratio of the two rotors' moments.
+    const std::string table_file = cfg.get<std::string>("load_table_file", "");
+    state->table = table_file.empty() ? LoadTable::from_turbine(state->turbine)
+                                      : LoadTable::load_csv(cfg.get_path("load_table_file", ""));
     // "" (the default) keeps no state.
     state->state_file = cfg.get<std::string>("state_file", "").empty() ? "" : cfg.get_path("state_file", "");
     state->save_period = cfg.get_number("save_period", 600.0, 1.0, 1e7);

@@ -45,6 +45,17 @@ std::vector<double> split_numbers(const std::string& line, const std::string& fi
 }
 }  // namespace
 
+LoadTable LoadTable::from_turbine(const TurbineParams& turbine) {
+  const AeroModel aero(turbine);
+  const double l0 = 0.0, dl = 0.25, p0 = -5.0, dp = 0.5;
+  const int nl = 81, np = 101;
+  std::vector<double> k;
+  k.reserve(static_cast<std::size_t>(nl * np));
+  for (int i = 0; i < nl; ++i)
+    for (int j = 0; j < np; ++j) k.push_back(aero.moment_coefficient_exact(l0 + i * dl, p0 + j * dp));
+  return LoadTable(l0, dl, nl, p0, dp, np, std::move(k));
+}
+
 LoadTable LoadTable::load_csv(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw ConfigError(path, 0, "", "cannot open load table");

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "turbine_params.hpp"
+
 namespace windfdi::blade_load {
 
 /// k_M(lambda, beta) on a regular grid, with a learned multiplicative correction per node (the adaptation).
@@ -21,6 +23,9 @@ class LoadTable {
   /// Reads the shipped CSV: '#' comment lines, a header `lambda\pitch_deg,<pitch values...>`, then one row
   /// per tip-speed ratio: lambda, k_M at each pitch (N m per (m/s)^2). A malformed file is a ConfigError.
   static LoadTable load_csv(const std::string& path);
+  /// The table of a turbine's own aerodynamic model (AeroModel::moment_coefficient_exact): lambda 0..20 step
+  /// 0.25, pitch -5..45 deg step 0.5, the operating range with margin. What windfdi-blade-load-table writes.
+  static LoadTable from_turbine(const TurbineParams& turbine);
   void save_csv(const std::string& path, const std::string& comment) const;
 
   /// k_M with the learned correction, bilinear, clamped to the grid.

@@ -15,14 +15,7 @@ int main(int argc, char** argv) {
   }
   try {
     const windfdi::TurbineParams p = windfdi::load_turbine_params_file(argv[1]);
-    const windfdi::AeroModel aero(p);
-    // lambda 0..20 step 0.25, pitch -5..45 deg step 0.5: the benchmark's operating range with margin.
-    const double l0 = 0.0, dl = 0.25, p0 = -5.0, dp = 0.5;
-    const int nl = 81, np = 101;
-    std::vector<double> k;
-    for (int i = 0; i < nl; ++i)
-      for (int j = 0; j < np; ++j) k.push_back(aero.moment_coefficient_exact(l0 + i * dl, p0 + j * dp));
-    windfdi::blade_load::LoadTable t(l0, dl, nl, p0, dp, np, k);
+    const windfdi::blade_load::LoadTable t = windfdi::blade_load::LoadTable::from_turbine(p);
     // The header names the turbine file it was made from (the shipped table's says the benchmark's).
     const std::string source = std::filesystem::path(argv[1]).filename().string();
     t.save_csv(

@@ -2,6 +2,7 @@
 // the t-tests, persistence, adaptation, and fault detection on the plant.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -101,6 +102,26 @@ TEST(MonitorConfig, TheIdlingSpeedAndTheMomentRangeAreTheTurbinesOwn) {
       load_monitor_config(YamlSection(YAML::Load("min_rotor_speed: 0.4\nmax_moment: 3.0e7"), "x.yaml"), two);
   EXPECT_DOUBLE_EQ(absolute.min_rotor_speed, 0.4);
   EXPECT_DOUBLE_EQ(absolute.validity.max_moment, 3.0e7);
+}
+
+TEST(LoadTable, TheTurbinesOwnTableIsTheShippedOne) {
+  // GIVEN the load table built from each shipped turbine's file at start (load_table_file "", the default)
+  const std::string deploy = WINDFDI_SOURCE_DEPLOY_DIR;
+  for (const std::string name : {"benchmark_4.8MW", "example_2MW"}) {
+    const LoadTable built =
+        LoadTable::from_turbine(load_turbine_params_file(deploy + "/turbine/" + name + ".yaml"));
+    const LoadTable shipped = LoadTable::load_csv(deploy + "/turbine/" + name + "_load_table.csv");
+    // THEN it is the table windfdi-blade-load-table wrote for it, to the CSV's ten digits, between the nodes
+    // too
+    ASSERT_EQ(built.n_lambda(), shipped.n_lambda());
+    ASSERT_EQ(built.n_pitch(), shipped.n_pitch());
+    double worst = 0.0;
+    for (double lambda = 0.1; lambda < 20.0; lambda += 0.37)
+      for (double pitch = -4.9; pitch < 45.0; pitch += 0.83)
+        worst = std::max(worst, std::fabs(built.k(lambda, pitch) - shipped.k(lambda, pitch)) /
+                                    std::max(1.0, std::fabs(shipped.k(lambda, pitch))));
+    EXPECT_LT(worst, 1e-8) << name;
+  }
 }
 
 TEST(HarmonicEstimator, FourHarmonicsWithNoiseWithinTwoPercent) {
