@@ -2,6 +2,8 @@
 // values.
 #include "sensor_bias_service.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <memory>
 
 #include "deploy_dir.hpp"
@@ -82,6 +84,20 @@ ServiceSpec sensor_bias_spec() {
     state->config = load_bias_config(cfg, deploy_dir() + "/sensor_bias", state->turbine);
     state->drive_train = load_gain_file(state->config.drive_train_gain_file);
     state->pitch = load_gain_file(state->config.pitch_gain_file);
+    if (state->config.mode == Mode::kObserver) {
+      // A gain is a model of the turbine: the shipped one is the benchmark turbine's. A turbine file alone
+      // must do for another turbine, so its gains are designed here when the configured ones do not fit.
+      const std::string turbine_file = configured_turbine_file(cfg);
+      std::string note;
+      state->drive_train =
+          gain_for_turbine(state->drive_train, "drive_train_gains", state->config.drive_train_design,
+                           turbine_file, state->config.design_for_turbine, note);
+      if (!note.empty()) spdlog::info("sensor_bias: {}", note);
+      note.clear();
+      state->pitch = gain_for_turbine(state->pitch, "pitch_gains", state->config.pitch_design, turbine_file,
+                                      state->config.design_for_turbine, note);
+      if (!note.empty()) spdlog::info("sensor_bias: {}", note);
+    }
     // Construct once so a gain file of the wrong shape fails at start-up, not at the first sample.
     BiasEstimator check(state->config, state->drive_train, state->pitch, state->turbine);
   };

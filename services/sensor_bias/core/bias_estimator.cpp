@@ -55,7 +55,10 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
                         "torque_max",
                         "wind_max",
                         "pitch_min",
-                        "pitch_max"});
+                        "pitch_max",
+                        "design_for_turbine",
+                        "drive_train_design",
+                        "pitch_design"});
   BiasConfig c;
   c.mode =
       s.get_choice("mode", "observer", {"observer", "paper"}) == "paper" ? Mode::kPaper : Mode::kObserver;
@@ -65,6 +68,9 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   if (c.mode == Mode::kObserver) {
     c.drive_train_gain_file = path("drive_train_gains", "gains_drive_train_observer.yaml");
     c.pitch_gain_file = path("pitch_gains", "gains_pitch_observer.yaml");
+    c.design_for_turbine = s.get<bool>("design_for_turbine", c.design_for_turbine);
+    c.drive_train_design = path("drive_train_design", "design_drive_train_observer.yaml");
+    c.pitch_design = path("pitch_design", "design_pitch_observer.yaml");
   } else {
     c.drive_train_gain_file = path("paper_drive_train_gains", "gains_drive_train_paper.yaml");
     c.pitch_gain_file = path("paper_pitch_gains", "gains_pitch_paper.yaml");

@@ -28,6 +28,10 @@ struct BiasConfig {
   Mode mode = Mode::kObserver;        ///< observer (default, uses the measurements) or paper (eqs 5 + 8)
   std::string drive_train_gain_file;  ///< gain file of windfdi-qb-design (observer: 7 or 5 states; paper: 3)
   std::string pitch_gain_file;        ///< (observer: 4 or 3 states; paper: 2)
+  /// Observer mode: gains whose model is not the configured turbine's are designed at start from these design
+  /// files made for that turbine (design_for_turbine); false: that is a configuration error.
+  bool design_for_turbine = true;
+  std::string drive_train_design, pitch_design;
   std::array<double, kChannels> threshold{0.017, 1.62,
                                           0.5};  ///< |bias| to flag: rad/s, rad/s, deg (pitch: all 3)
   double raise_time =

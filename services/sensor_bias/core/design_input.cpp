@@ -1,6 +1,9 @@
 // windfdi-qb-design's input: explicit matrices, or the turbine's drive train / pitch model discretised.
-
 #include "design_input.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <vector>
 
 namespace windfdi::sensor_bias {
 
@@ -169,6 +172,58 @@ DesignInput load_design_input(const YamlSection& s) {
 
 DesignInput load_design_input_file(const std::string& path) {
   return load_design_input(YamlSection::load_file(path));
+}
+
+DesignInput design_for_turbine(const std::string& template_file, const std::string& turbine_file) {
+  const YamlSection shipped = YamlSection::load_file(template_file);
+  const YamlSection model = shipped.section("model");
+  model.require<std::string>("turbine_file");
+  const TurbineParams from = load_turbine_params_file(model.get_path("turbine_file", ""));
+  const TurbineParams to = load_turbine_params_file(turbine_file);
+  YAML::Node node = YAML::Clone(shipped.node());
+  node["model"]["turbine_file"] = std::filesystem::absolute(turbine_file).string();
+  node["name"] = shipped.get<std::string>("name", "design") + " for " +
+                 std::filesystem::path(turbine_file).filename().string();
+  if (model.get<std::string>("subsystem", "drive_train") == "drive_train") {
+    // Rated torques P / omega: aerodynamic (rotor side) and generator; the aerodynamic torque's slope with
+    // rotor speed scales as that torque over the rated rotor speed.
+    const double aero =
+        (to.rated_power / to.rated_rotor_speed()) / (from.rated_power / from.rated_rotor_speed());
+    const double generator =
+        (to.rated_power / to.rated_generator_speed) / (from.rated_power / from.rated_generator_speed);
+    const double damping = aero * from.rated_rotor_speed() / to.rated_rotor_speed();
+    if (model.has("aero_damping"))
+      node["model"]["aero_damping"] = model.get_number("aero_damping", 0.0, 0.0, 1e12) * damping;
+    if (model.has("input_bound")) {
+      const Eigen::MatrixXd bound = yaml_matrix(model, "input_bound");
+      if (bound.size() != 2) throw model.error("input_bound", "a drive train has two inputs");
+      node["model"]["input_bound"] = std::vector<double>{bound(0) * aero, bound(1) * generator};
+    }
+  }
+  return load_design_input(YamlSection(node, template_file));
+}
+
+GainFile gain_for_turbine(const GainFile& gain, const std::string& gain_key, const std::string& design_file,
+                          const std::string& turbine_file, bool design, std::string& note) {
+  const TurbineParams turbine = load_turbine_params_file(turbine_file);
+  if (gain_fits_turbine(gain, turbine)) return gain;
+  const std::string what = gain.file + " was designed for another turbine than " + turbine_file;
+  if (!design)
+    throw ConfigError(gain.file, 0, gain_key,
+                      what + ": design one (windfdi-qb-design on a copy of " + design_file +
+                          " with its turbine_file) or set design_for_turbine: true");
+  const DesignInput in = design_for_turbine(design_file, turbine_file);
+  const QbSolution sol = in.fixed_alpha ? qb_solve(in.problem, in.alpha) : qb_design(in.problem, in.search);
+  if (!sol.feasible)
+    throw ConfigError(design_file, 0, gain_key,
+                      what + ", and its design for it is infeasible: " + sol.message);
+  GainFile g = parse_gain_file(gain_file_text(in, sol, design_file), design_file + " for " + turbine_file);
+  char buf[160];
+  std::snprintf(buf, sizeof buf, ": designed from %s for it (alpha %.3g, closed-loop radius %.6f, %.2f s)",
+                std::filesystem::path(design_file).filename().c_str(), sol.alpha, sol.closed_loop_radius,
+                sol.seconds);
+  note = what + buf;
+  return g;
 }
 
 }  // namespace windfdi::sensor_bias

@@ -4,6 +4,7 @@
 
 #include "csv.hpp"
 #include "design_input.hpp"
+#include "lti_models.hpp"
 
 namespace windfdi::sensor_bias {
 
@@ -54,8 +55,9 @@ std::string gain_file_text(const DesignInput& in, const QbSolution& sol, const s
   return o.str();
 }
 
-GainFile load_gain_file(const std::string& path) {
-  const YamlSection s = YamlSection::load_file(path);
+namespace {
+
+GainFile gain_file_from(const YamlSection& s, const std::string& path) {
   s.require_known_keys({"name", "subsystem", "structure", "sample_time", "alpha", "trace",
                         "lmi_max_eigenvalue", "closed_loop_radius", "aero_damping", "states", "state_bound",
                         "bias_bound", "A", "B", "C", "K", "P", "R"});
@@ -91,6 +93,33 @@ GainFile load_gain_file(const std::string& path) {
   if (!g.states.empty() && static_cast<Eigen::Index>(g.states.size()) != n)
     throw s.error("states", "must name every state of A");
   return g;
+}
+
+}  // namespace
+
+GainFile load_gain_file(const std::string& path) {
+  return gain_file_from(YamlSection::load_file(path), path);
+}
+
+GainFile parse_gain_file(const std::string& text, const std::string& source) {
+  return gain_file_from(YamlSection(YAML::Load(text), source), source);
+}
+
+bool gain_fits_turbine(const GainFile& gain, const TurbineParams& turbine) {
+  Eigen::MatrixXd Ac, Bc, Cc;
+  if (gain.subsystem == "drive_train")
+    drive_train_continuous(turbine, gain.aero_damping, Ac, Bc, Cc);
+  else if (gain.subsystem == "pitch")
+    pitch_continuous(turbine.pitch_omega_n, turbine.pitch_zeta, Ac, Bc, Cc);
+  else
+    return true;  // a generic model names no turbine
+  const DiscreteModel d = discretise_zoh(Ac, Bc, Cc, gain.sample_time);
+  const Eigen::Index n = d.A.rows(), m = d.B.cols();
+  if (gain.A.rows() < n || gain.B.rows() < n || gain.B.cols() != m) return false;
+  const auto close = [](const Eigen::MatrixXd& x, const Eigen::MatrixXd& y) {
+    return (x - y).norm() <= 1e-6 * y.norm();
+  };
+  return close(gain.A.topLeftCorner(n, n), d.A) && close(gain.B.topRows(n), d.B);
 }
 
 Eigen::MatrixXd yaml_matrix(const YamlSection& s, const std::string& key) {

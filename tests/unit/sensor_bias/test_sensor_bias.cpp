@@ -209,6 +209,54 @@ TEST(QbDesign, IntegratedRandomWalkBiasModel) {
   EXPECT_THROW(load_design_input(YamlSection(YAML::Load(b), "b.yaml")), ConfigError);
 }
 
+TEST(QbDesign, AnotherTurbinesGainIsDesignedForItFromItsFileAlone) {
+  // GIVEN the shipped observer gains (the benchmark turbine's) and the example 2 MW turbine, whose gains were
+  // designed by hand from design_drive_train_observer_2MW.yaml (the shipped design's torque bounds and
+  // aerodynamic damping scaled to its rated torques)
+  const std::string gains = kDeploy + "/sensor_bias/gains_drive_train_observer.yaml",
+                    design = kDeploy + "/sensor_bias/design_drive_train_observer.yaml",
+                    two_mw = kDeploy + "/turbine/example_2MW.yaml";
+  const GainFile bench = load_gain_file(gains),
+                 by_hand = load_gain_file(kDeploy + "/sensor_bias/gains_drive_train_observer_2MW.yaml");
+  const TurbineParams two = load_turbine_params_file(two_mw);
+  // THEN each shipped gain fits its own turbine and not the other (nor the medium-speed one) ...
+  EXPECT_TRUE(gain_fits_turbine(bench, TurbineParams{}));
+  EXPECT_TRUE(gain_fits_turbine(by_hand, two));
+  EXPECT_FALSE(gain_fits_turbine(bench, two));
+  EXPECT_FALSE(
+      gain_fits_turbine(bench, load_turbine_params_file(kDeploy + "/turbine/example_3MW_medium_speed.yaml")));
+  EXPECT_TRUE(gain_fits_turbine(load_gain_file(kDeploy + "/sensor_bias/gains_pitch_observer.yaml"), two));
+  // ... the design made for the 2 MW turbine by rule is the hand-made one within 2 % ...
+  const DesignInput rule = design_for_turbine(design, two_mw);
+  const DesignInput hand =
+      load_design_input_file(kDeploy + "/sensor_bias/design_drive_train_observer_2MW.yaml");
+  EXPECT_NEAR(rule.aero_damping / hand.aero_damping, 1.0, 0.02);
+  EXPECT_NEAR(rule.problem.W1.norm() / hand.problem.W1.norm(), 1.0, 0.02);
+  // ... and a gain that does not fit is designed at start: it fits, is certified, and bounds the biases as
+  // the hand-made gain does (within 5 %)
+  std::string note;
+  const GainFile designed = gain_for_turbine(bench, "drive_train_gains", design, two_mw, true, note);
+  EXPECT_NE(note.find("designed from design_drive_train_observer.yaml"), std::string::npos) << note;
+  EXPECT_TRUE(gain_fits_turbine(designed, two));
+  EXPECT_LT(designed.lmi_max_eigenvalue, 0.0);
+  EXPECT_LT(designed.closed_loop_radius, 1.0);
+  ASSERT_EQ(designed.bias_bound.size(), by_hand.bias_bound.size());
+  for (Eigen::Index i = 0; i < designed.bias_bound.size(); ++i)
+    EXPECT_NEAR(designed.bias_bound(i) / by_hand.bias_bound(i), 1.0, 0.05) << i;
+  std::printf("[ measured ] %s\n", note.c_str());
+  // AND a gain that fits is kept as it is, and without design_for_turbine a misfit is a ConfigError naming
+  // the key
+  note.clear();
+  EXPECT_EQ(gain_for_turbine(by_hand, "drive_train_gains", design, two_mw, true, note).K, by_hand.K);
+  EXPECT_TRUE(note.empty());
+  try {
+    gain_for_turbine(bench, "drive_train_gains", design, two_mw, false, note);
+    ADD_FAILURE() << "a gain of another turbine was taken";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("drive_train_gains"), std::string::npos) << e.what();
+  }
+}
+
 TEST(QbDesign, ShippedGainsAreCertifiedAndReproducible) {
   for (const char* name : {"drive_train_observer", "pitch_observer", "pitch_paper"}) {
     // GIVEN the shipped design input and its gain file
