@@ -22,6 +22,7 @@ struct TableSignature {
   double omega_n, zeta;
 };
 // Wu & Li, Table 1.
+constexpr TableSignature kTableHealthy = {"none", 11.11, 0.6};
 constexpr TableSignature kPitchFaults[] = {
     {"pump_wear", 7.27, 0.75}, {"hydraulic_leakage", 3.42, 0.9}, {"high_air_content", 5.73, 0.45}};
 
@@ -131,8 +132,11 @@ void TurbineSim::advance(const ControlInput& input, bool inject) {
         for (const auto& sig : kPitchFaults)
           if (f.type == sig.type) {
             // Wu & Li eqs 11-13.
-            wn[b] = (1 - alpha) * p_.pitch_omega_n + alpha * sig.omega_n;
-            zeta[b] = (1 - alpha) * p_.pitch_zeta + alpha * sig.zeta;
+            // Table 1's faults are relative changes of its healthy actuator (11.11 rad/s, 0.6): another
+            // turbine's actuator takes them as shares of its own.
+            wn[b] = (1 - alpha) * p_.pitch_omega_n +
+                    alpha * sig.omega_n * p_.pitch_omega_n / kTableHealthy.omega_n;
+            zeta[b] = (1 - alpha) * p_.pitch_zeta + alpha * sig.zeta * p_.pitch_zeta / kTableHealthy.zeta;
           }
       }
     }

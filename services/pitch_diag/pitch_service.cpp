@@ -46,7 +46,9 @@ ServiceSpec pitch_diag_spec() {
           "excited", [](const E& e) { return e.excited; }, [](Idl& o, const auto& v) { o.excited(v); },
           [](bool x) { return std::string(x ? "1" : "0"); }),
   };
-  s.configure = [config](const YamlSection& cfg) { *config = load_pitch_diag_config(cfg); };
+  s.configure = [config](const YamlSection& cfg) {
+    *config = load_pitch_diag_config(cfg, configured_turbine(cfg));
+  };
   s.make = [config](const std::string&) { return std::make_unique<PitchDiagnoser>(*config); };
   return service_spec(std::move(s));
 }

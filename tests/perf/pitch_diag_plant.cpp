@@ -136,9 +136,13 @@ int main(int argc, char** argv) {
       "| method | right first event | wrong first | missed | delay median / max s | within 10 s at 14/17/20 "
       "m/s | within 10 s of the first information (runs with it) | "
       "false alarms 8/12/16/20 m/s | blade-samples/s |\n|---|---|---|---|---|---|---|---|---|\n");
-  PitchDiagConfig base;
-  if (const char* file = std::getenv("PITCH_DIAG_CONFIG"))
-    base = load_pitch_diag_config(YamlSection(YAML::LoadFile(file), file));
+  // The built-in defaults unless PITCH_DIAG_CONFIG names a file; the signatures scaled to the plant's
+  // actuator.
+  const char* file = std::getenv("PITCH_DIAG_CONFIG");
+  const PitchDiagConfig base =
+      load_pitch_diag_config(file ? YamlSection(YAML::LoadFile(file), file)
+                                  : YamlSection(YAML::Node(YAML::NodeType::Map), "(defaults)"),
+                             turbine);
   for (Method m : methods) {
     PitchDiagConfig cfg = base;
     cfg.identifier.method = m;

@@ -13,6 +13,7 @@
 #include "identifier.hpp"
 #include "input_context.hpp"
 #include "pitch_model.hpp"
+#include "turbine_params.hpp"
 #include "yaml_config.hpp"
 
 namespace windfdi::pitch_diag {
@@ -78,8 +79,11 @@ struct PitchDiagConfig {
   double pitch_max = 95.0;    ///< deg; above it is rejected
 };
 
-/// Loads the pitch_diag keys of `section` (unknown keys and out-of-range values are ConfigErrors).
-PitchDiagConfig load_pitch_diag_config(const YamlSection& section);
+/// Loads the pitch_diag keys of `section` (unknown keys and out-of-range values are ConfigErrors). The
+/// signatures are written for the healthy actuator of their first row (Wu & Li Table 1: 11.11 rad/s, 0.6);
+/// they are scaled to `turbine`'s own (pitch_omega_n, pitch_zeta), as the plant scales its faults.
+PitchDiagConfig load_pitch_diag_config(const YamlSection& section,
+                                       const TurbineParams& turbine = TurbineParams{});
 
 /// One raised or cleared fault (plain struct; the node turns it into a FaultReport).
 

@@ -25,14 +25,16 @@ struct PlantRun {
 };
 
 PlantRun run_plant(double wind, double seconds, const std::vector<plant::FaultSpec>& faults, uint64_t seed,
-                   double derated_rate = 0.0, bool tell_diagnoser = true) {
+                   double derated_rate = 0.0, bool tell_diagnoser = true,
+                   const TurbineParams& turbine = TurbineParams{},
+                   const PitchDiagConfig& config = PitchDiagConfig{}) {
   plant::TurbineScenario t;
   t.id = "WT01";
   t.wind.mean = wind;
   t.wind.turbulence_intensity = 0.12;
   t.wind.shear_variation = 0.03;
-  plant::TurbineSim sim(TurbineParams{}, t, faults, seed, 100.0);
-  PitchDiagnoser diag{PitchDiagConfig{}};
+  plant::TurbineSim sim(turbine, t, faults, seed, 100.0);
+  PitchDiagnoser diag{config};
   plant::ControlInput in;
   if (derated_rate > 0.0) {
     // Every blade derated from the start (the arbiter's fallback when pitch_diag is lost), as the input
@@ -281,6 +283,37 @@ TEST(PitchDiagPlant, AStartOnAPumpWornActuatorRaisesPumpWearNotALeak) {
                     e.raised ? "raised" : "cleared", e.fault.c_str(), e.severity.c_str(), e.detail.c_str());
   }
   std::printf("[measured] started on a pump-worn blade: a leak raised in %d of %d runs\n", leaks, runs);
+}
+
+TEST(PitchDiagPlant, AnotherTurbinesActuatorIsJudgedByItsOwnHealthyDynamics) {
+  // GIVEN a turbine whose healthy pitch actuator is slower and better damped than Table 1's (8 rad/s, 0.7
+  // against 11.11 rad/s, 0.6), and the shipped configuration loaded for it: the signatures (and the plant's
+  // faults) are Table 1's as shares of the healthy actuator
+  TurbineParams slow;
+  slow.pitch_omega_n = 8.0;
+  slow.pitch_zeta = 0.7;
+  const YamlSection shipped = YamlSection::load_file(PITCH_DIAG_YAML);
+  const PitchDiagConfig own = load_pitch_diag_config(shipped, slow);
+  EXPECT_NEAR(own.classifier.signatures[1].omega_n, 7.27 * 8.0 / 11.11, 1e-9);
+  EXPECT_NEAR(own.classifier.signatures[1].zeta, 0.75 * 0.7 / 0.6, 1e-9);
+  // THEN ten healthy minutes in region 3 raise nothing ...
+  const auto healthy = run_plant(16.0, 600.0, {}, 73, 0.0, true, slow, own);
+  EXPECT_TRUE(healthy.events.empty()) << healthy.events.front().fault << " at " << healthy.events.front().t;
+  // ... where Table 1's absolute signatures (the benchmark actuator's) call this healthy actuator faulty
+  const auto absolute =
+      run_plant(16.0, 600.0, {}, 73, 0.0, true, slow, load_pitch_diag_config(shipped, TurbineParams{}));
+  EXPECT_FALSE(absolute.events.empty());
+  // AND each fault on blade 2 is raised with its name within 20 s of its onset, nothing else
+  for (const char* fault : {"pump_wear", "hydraulic_leakage", "high_air_content"}) {
+    const auto r = run_plant(16.0, 100.0, {actuator_fault(1, fault, 60.0)}, 51, 0.0, true, slow, own);
+    ASSERT_FALSE(r.events.empty()) << fault;
+    EXPECT_EQ(r.events.front().fault, fault);
+    EXPECT_EQ(r.events.front().component, "pitch_actuator_2") << fault;
+    EXPECT_GT(r.events.front().t, 60.0) << fault;
+    EXPECT_LT(r.events.front().t, 80.0) << fault;
+    std::printf("[measured] actuator of 8 rad/s, 0.7: %s raised %.1f s after the onset\n", fault,
+                r.events.front().t - 60.0);
+  }
 }
 
 TEST(PitchDiagPlant, AHealthyHourRaisesNothing) {
