@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -263,6 +264,47 @@ TEST(SecondTurbine, IceOnTheExample2MWTurbineIsJudgedByItsOwnInertia) {
   EXPECT_LT((*shed)["t"].get<double>(), 1320.0) << shed->dump();
   std::printf("[ measured ] 2 MW shedding (inertia alone) raised %.0f s after it\n",
               (*shed)["t"].get<double>() - 1200.0);
+}
+
+TEST(ThirdTurbine, EveryServiceRunsAMediumSpeedTurbineFromItsFileAlone) {
+  // GIVEN the plant recording of the example medium-speed 3 MW turbine (generator at 52 rad/s rated) at
+  // 13 m/s with a generator-speed sensor offset of 1.5 rad/s (3 % of rated) over 400-500 s, and every service
+  // configured with that turbine file and nothing else: no gains designed for it, no load table made for it
+  const std::string dir = temp_dir("medium_speed");
+  const std::string turbine = kDeploy + "/turbine/example_3MW_medium_speed.yaml";
+  std::ofstream(dir + "/scenario.yaml")
+      << "duration: 700\nseed: 31\nturbine_file: " << turbine
+      << "\nturbines:\n  - {id: WT01, wind: {mean: 13.0, turbulence_intensity: 0.1}}\n"
+         "faults:\n  - {turbine: WT01, target: generator_speed, type: bias, value: 1.5, start: 400, end: "
+         "500}\n";
+  ChildProcess plant({bin("windfdi-plant"), "--scenario", dir + "/scenario.yaml", "--offline", "--record",
+                      dir + "/frames.csv"},
+                     {}, "plant");
+  ASSERT_EQ(plant.wait(std::chrono::seconds(60)), 0) << plant.stderr_text();
+  std::ofstream(dir + "/service.yaml") << "turbine_file: " << turbine << "\n";
+  std::map<std::string, std::vector<json>> events;
+  for (const std::string service : {"sensor-bias", "blade-load", "pitch-diag", "ice-detect", "drive-train"}) {
+    ChildProcess p({bin("windfdi-" + service), "--config", dir + "/service.yaml", "--replay",
+                    dir + "/frames.csv", "--events", dir + "/" + service + ".jsonl"},
+                   {}, service);
+    ASSERT_EQ(p.wait(std::chrono::seconds(120)), 0) << p.stderr_text();
+    events[service] = json_lines(read_file(dir + "/" + service + ".jsonl"));
+    // THEN sensor_bias says it designed its drive-train gains for this turbine at start
+    if (service == "sensor-bias")
+      EXPECT_NE(p.stderr_text().find("designed from design_drive_train_observer.yaml"), std::string::npos)
+          << p.stderr_text();
+  }
+  // AND the offset is raised by sensor_bias on the generator speed sensor after its onset, and nothing is
+  // raised before it by any service
+  bool raised = false;
+  for (const auto& [service, list] : events)
+    for (const auto& e : list) {
+      if (e["state"] != "raised") continue;
+      EXPECT_GT(e["t"].get<double>(), 400.0) << service << ": " << e.dump();
+      raised |= service == "sensor-bias" && e["component"] == "generator_speed_sensor" &&
+                e["t"].get<double>() < 430.0;
+    }
+  EXPECT_TRUE(raised) << read_file(dir + "/sensor-bias.jsonl");
 }
 
 TEST(SecondTurbine, APowerModelStepIsNoSheddingOnARotorWhoseIceTakesNoCp) {

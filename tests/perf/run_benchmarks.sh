@@ -30,14 +30,14 @@ trap 'rm -rf "$healthy"' EXIT
 suite=$top/tests/perf/multi_fault_suite.py
 two_mw=(--set blade_load.turbine_file="$turbine2" --set drive_train.turbine_file="$turbine2"
   --set ice_detect.turbine_file="$turbine2" --set sensor_bias.turbine_file="$turbine2"
-  --set arbiter.turbine_file="$turbine2"
+  --set arbiter.turbine_file="$turbine2" --set pitch_diag.turbine_file="$turbine2"
   --set sensor_bias.drive_train_gains="$top/deploy/sensor_bias/gains_drive_train_observer_2MW.yaml"
   --set blade_load.load_table_file="$top/deploy/turbine/example_2MW_load_table.csv")
+# The medium-speed turbine by its turbine file alone: sensor_bias designs its gains and blade_load builds its
+# table at start.
 medium=(--set blade_load.turbine_file="$turbine3" --set drive_train.turbine_file="$turbine3"
   --set ice_detect.turbine_file="$turbine3" --set sensor_bias.turbine_file="$turbine3"
-  --set arbiter.turbine_file="$turbine3"
-  --set sensor_bias.drive_train_gains="$top/deploy/sensor_bias/gains_drive_train_observer_3MW_medium_speed.yaml"
-  --set blade_load.load_table_file="$top/deploy/turbine/example_3MW_medium_speed_load_table.csv")
+  --set arbiter.turbine_file="$turbine3" --set pitch_diag.turbine_file="$turbine3")
 echo "== healthy hours, benchmark 4.8 MW turbine"
 python3 "$suite" generate --healthy --seed 5 --count 10 --out "$healthy/4.8MW" >/dev/null
 python3 "$suite" run "$healthy/4.8MW" --mode fast --work "$healthy/w4.8MW" | tail -n 4
