@@ -512,13 +512,20 @@ void IceDetector::level_events(double t, std::vector<FaultEvent>& events) {
     return;
   }
   above_since_ = -1.0;
-  // Clear (or lower) only below clear_ratio of the raised level's threshold, for clear_time.
-  if (raised_level_ > 0 && m < cfg_.clear_ratio * thresholds[raised_level_ - 1]) {
+  // Clear (or lower) only below clear_ratio of the raised level's threshold, for clear_time. The stop level
+  // is the exception: it is held only while the estimate stays above critical_rise itself (its margin is what
+  // it takes to enter), and lowered to fault after confirm_time below, so that the arbiter's
+  // stop_confirm_time is time at the stop level, not time since an overshoot. A medium-speed rotor's estimate
+  // overshot 10.9 % of ice to +15 % for a minute and fell back to +11.7 %; held down to 0.7 of the stop
+  // level, the overshoot stopped the turbine 90 s later (suite seed 91).
+  const bool critical = raised_level_ == 3;
+  if (raised_level_ > 0 &&
+      m < (critical ? ice_mass_at(cfg_.critical_rise) : cfg_.clear_ratio * thresholds[raised_level_ - 1])) {
     if (below_since_ < 0.0) below_since_ = t;
-    if (t - below_since_ >= cfg_.clear_time) {
-      int lower = 0;
+    if (t - below_since_ >= (critical ? cfg_.confirm_time : cfg_.clear_time)) {
+      int lower = critical ? 2 : 0;
       for (int i = 0; i < 3; ++i)
-        if (m >= thresholds[i]) lower = i + 1;
+        if (m >= thresholds[i]) lower = std::max(lower, i + 1);
       if (lower == 0) {
         event(false, raised_level_);
       } else {
