@@ -57,9 +57,11 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
   c.wind_window = s.get_number("wind_window", c.wind_window, 0.0, 60.0);
   c.context_lookback = s.get_number("context_lookback", c.context_lookback, 0.0, 3600.0);
   c.max_bridged_gap = s.get_number("max_bridged_gap", c.max_bridged_gap, 0.0, 10.0);
-  c.max_torque = s.get_number("max_torque", c.max_torque, 1.0, 1e8);
-  c.max_generator_speed = s.get_number("max_generator_speed", c.max_generator_speed, 1.0, 1e4);
-  c.max_power = s.get_number("max_power", c.max_power, 1.0, 1e10);
+  // Plausible ranges are multiples of the turbine's rated values (the benchmark's 2e5 N m, 400 rad/s and 2e7
+  // W there): a 15 MW medium-speed generator's rated torque, 0.3 MN m, was beyond the fixed 2e5 N m.
+  c.max_torque = s.get_number("max_torque", 6.6 * turbine.rated_generator_torque(), 1.0, 1e9);
+  c.max_generator_speed = s.get_number("max_generator_speed", 2.47 * turbine.rated_generator_speed, 1.0, 1e4);
+  c.max_power = s.get_number("max_power", 4.17 * turbine.rated_power, 1.0, 1e10);
   return c;
 }
 

@@ -112,9 +112,12 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   c.differential_confirm = s.get_number("differential_confirm", c.differential_confirm, 0.0, 1.0);
   c.pitch_offset_confirm = s.get_number("pitch_offset_confirm", c.pitch_offset_confirm, 0.0, 10.0);
   c.pitch_offset_time = s.get_number("pitch_offset_time", c.pitch_offset_time, 0.1, 600.0);
-  c.rotor_speed_max = s.get_number("rotor_speed_max", c.rotor_speed_max, 0.1, 100.0);
-  c.generator_speed_max = s.get_number("generator_speed_max", c.generator_speed_max, 1.0, 10000.0);
-  c.torque_max = s.get_number("torque_max", c.torque_max, 1.0, 1e9);
+  // Plausible ranges are multiples of the turbine's rated values (the benchmark's 5 rad/s, 400 rad/s and 1e6
+  // N m there), so that a faster rotor or a larger generator is not rejected sample by sample.
+  c.rotor_speed_max = s.get_number("rotor_speed_max", 2.93 * turbine.rated_rotor_speed(), 0.1, 100.0);
+  c.generator_speed_max =
+      s.get_number("generator_speed_max", 2.47 * turbine.rated_generator_speed, 1.0, 10000.0);
+  c.torque_max = s.get_number("torque_max", 33.0 * turbine.rated_generator_torque(), 1.0, 1e9);
   c.wind_max = s.get_number("wind_max", c.wind_max, 1.0, 200.0);
   c.pitch_min = s.get_number("pitch_min", c.pitch_min, -90.0, 90.0);
   c.pitch_max = s.get_number("pitch_max", c.pitch_max, c.pitch_min, 180.0);

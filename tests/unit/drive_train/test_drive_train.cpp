@@ -418,6 +418,15 @@ TEST(DriveTrainDiagnoser, OnAMediumSpeedDriveTrainAnEfficiencyStepInLowWindIsRai
   EXPECT_NEAR(config.efficiency.min_generator_speed, 9.62, 0.01);
   EXPECT_NEAR(config.converter.min_generator_speed, 9.62, 0.01);
   EXPECT_NEAR(load_diagnoser_config(yaml, TurbineParams{}).efficiency.min_generator_speed, 30.0, 0.05);
+  // (and its plausible torque is a multiple of its own rated torque, 60 kN m, as the benchmark's 2e5 N m is
+  // of its 30 kN m: a 15 MW generator at 50 rad/s, 0.3 MN m rated, is not rejected sample by sample)
+  EXPECT_NEAR(load_diagnoser_config(yaml, TurbineParams{}).max_torque, 2.0e5, 1e3);
+  EXPECT_NEAR(load_diagnoser_config(yaml, TurbineParams{}).max_generator_speed, 400.0, 1.0);
+  EXPECT_NEAR(config.max_torque, 6.6 * medium.rated_generator_torque(), 1.0);
+  TurbineParams large;
+  large.rated_power = 15e6;
+  large.rated_generator_speed = 50.0;
+  EXPECT_GT(load_diagnoser_config(yaml, large).max_torque, 3.0 * large.rated_generator_torque());
   const auto r = run_turbine(medium, config, 5.5, 0.06, 480.0, {efficiency(300.0)}, 91);
   // THEN the efficiency loss is raised within 90 s, nothing before it
   const FaultEvent* raised = first(r, "efficiency_loss", 0.0);

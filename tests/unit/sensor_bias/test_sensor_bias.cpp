@@ -980,6 +980,12 @@ TEST(BiasEstimator, SpeedThresholdsAndTheWitnessLevelAreTheTurbinesOwn) {
                                kDeploy + "/sensor_bias", small)
                   .threshold[0],
               0.03, 1e-12);
+  // AND the plausible ranges are multiples of the rated values: the benchmark turbine's 5 rad/s, 400 rad/s
+  // and 1e6 N m there, proportionally more on a faster rotor or a larger generator
+  EXPECT_NEAR(big.rotor_speed_max, 5.0, 0.01);
+  EXPECT_NEAR(big.generator_speed_max, 400.0, 0.5);
+  EXPECT_NEAR(big.torque_max, 1.0e6, 0.01e6);
+  EXPECT_NEAR(two.rotor_speed_max, 2.93 * 188.0 / 80.0, 1e-9);
 }
 
 TEST(BiasEstimator, ConfigRejectsUnknownKeysBadRangesAndWrongGains) {
