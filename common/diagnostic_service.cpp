@@ -171,14 +171,6 @@ int run_node(const ServiceSpec& spec, const CommonOptions& common) {
 
 }  // namespace
 
-std::string configured_turbine_file(const YamlSection& config) {
-  return config.get_path("turbine_file", deploy_dir() + "/turbine/benchmark_4.8MW.yaml");
-}
-
-TurbineParams configured_turbine(const YamlSection& config) {
-  return load_turbine_params_file(configured_turbine_file(config));
-}
-
 int run_diagnostic_service(int argc, char** argv, const ServiceSpec& spec) {
   const std::string exe = "windfdi-" + [&] {
     std::string n = spec.name;

@@ -130,12 +130,6 @@ ServiceSpec service_spec(TypedService<Core, Estimate, Idl> typed) {
   return spec;
 }
 
-/// The turbine a service configuration names in `turbine_file` (relative: beside the configuration), else
-/// the shipped benchmark turbine (deploy_dir()/turbine/benchmark_4.8MW.yaml).
-TurbineParams configured_turbine(const YamlSection& config);
-/// The path of that turbine file.
-std::string configured_turbine_file(const YamlSection& config);
-
 /// Parses the command line (common options, --config, --replay, --estimates, --events) and runs.
 int run_diagnostic_service(int argc, char** argv, const ServiceSpec& spec);
 

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include "deploy_dir.hpp"
+
 namespace windfdi {
 
 double TurbineParams::rotor_area() const { return M_PI * rotor_radius * rotor_radius; }
@@ -89,6 +91,18 @@ std::string scenario_turbine_file(const YamlSection& scenario, const std::string
   return tf;
 }
 
+std::string configured_turbine_file(const YamlSection& config) {
+  return config.get_path("turbine_file", deploy_dir() + "/turbine/benchmark_4.8MW.yaml");
+}
+
+TurbineParams configured_turbine(const YamlSection& config) {
+  return load_turbine_params_file(configured_turbine_file(config));
+}
+
+double AeroModel::moment_scale(const TurbineParams& p) {
+  return 0.5 * p.air_density * p.rotor_area() * (2.0 * p.rotor_radius / 3.0) / 3.0;
+}
+
 double AeroModel::optimal_tip_speed_ratio() {
   static const double best = [] {
     double lambda_opt = 8.0, cp_max = 0.0;
@@ -130,7 +144,7 @@ double AeroModel::thrust_coefficient(double lambda, double beta) {
 
 AeroModel::AeroModel(const TurbineParams& p)
     : p_(p),
-      moment_scale_(0.5 * p.air_density * p.rotor_area() * (2.0 * p.rotor_radius / 3.0) / 3.0),
+      moment_scale_(moment_scale(p)),
       n_lambda_(static_cast<int>(std::lround(kLambdaMax / kLambdaStep)) + 1),
       n_pitch_(static_cast<int>(std::lround((kPitchMax - kPitchMin) / kPitchStep)) + 1) {
   table_.resize(static_cast<std::size_t>(n_lambda_ * n_pitch_));

@@ -57,6 +57,11 @@ TurbineParams load_turbine_params_file(const std::string& path);
 /// file that does not exist is a ConfigError naming the key.
 std::string scenario_turbine_file(const YamlSection& scenario, const std::string& scenario_file,
                                   const std::string& deploy_dir);
+/// The turbine file a service's or the arbiter's configuration names in `turbine_file` (relative: beside the
+/// configuration), else the shipped benchmark turbine's (deploy_dir()/turbine/benchmark_4.8MW.yaml).
+std::string configured_turbine_file(const YamlSection& config);
+/// The turbine of that file.
+TurbineParams configured_turbine(const YamlSection& config);
 
 /// Aerodynamics: the Heier/Slootweg analytic power coefficient
 ///   Cp = c1 (c2/li - c3 beta - c4) exp(-c5/li) + c6 lambda,  1/li = 1/(lambda + 0.08 beta) - 0.035/(beta^3 +
@@ -74,6 +79,8 @@ class AeroModel {
   /// The tip-speed ratio of the largest Cp at zero pitch (about 8.1, Cp 0.48), searched once in steps of
   /// 0.01.
   static double optimal_tip_speed_ratio();
+  /// A blade's root moment per thrust coefficient and (m/s)^2 of wind, q A (2R/3) / 3 per v^2 (N m s^2/m^2).
+  static double moment_scale(const TurbineParams& p);
   /// Tip-speed ratio omega R / v (0 for v <= 0.1 m/s).
   double tip_speed_ratio(double wind, double rotor_speed) const;
   /// Aerodynamic torque on the rotor (N m); `cp_scale` < 1 for an iced rotor.

@@ -88,15 +88,14 @@ ServiceSpec sensor_bias_spec() {
       // A gain is a model of the turbine: the shipped one is the benchmark turbine's. A turbine file alone
       // must do for another turbine, so its gains are designed here when the configured ones do not fit.
       const std::string turbine_file = configured_turbine_file(cfg);
-      std::string note;
-      state->drive_train =
-          gain_for_turbine(state->drive_train, "drive_train_gains", state->config.drive_train_design,
-                           turbine_file, state->config.design_for_turbine, note);
-      if (!note.empty()) spdlog::info("sensor_bias: {}", note);
-      note.clear();
-      state->pitch = gain_for_turbine(state->pitch, "pitch_gains", state->config.pitch_design, turbine_file,
-                                      state->config.design_for_turbine, note);
-      if (!note.empty()) spdlog::info("sensor_bias: {}", note);
+      const auto fit = [&](GainFile& gain, const char* key, const std::string& design) {
+        std::string note;
+        gain = gain_for_turbine(gain, key, design, turbine_file, state->turbine,
+                                state->config.design_for_turbine, note);
+        if (!note.empty()) spdlog::info("sensor_bias: {}", note);
+      };
+      fit(state->drive_train, "drive_train_gains", state->config.drive_train_design);
+      fit(state->pitch, "pitch_gains", state->config.pitch_design);
     }
     // Construct once so a gain file of the wrong shape fails at start-up, not at the first sample.
     BiasEstimator check(state->config, state->drive_train, state->pitch, state->turbine);

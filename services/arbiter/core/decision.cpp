@@ -6,7 +6,6 @@
 #include <limits>
 #include <tuple>
 
-#include "deploy_dir.hpp"
 #include "names.hpp"
 #include "turbine_params.hpp"
 
@@ -28,8 +27,7 @@ ArbiterConfig load_arbiter_config(const YamlSection& s) {
   // Speed and torque limits are shares of the turbine's rated values (the absolute keys override them): a
   // 0.1 rad/s rotor speed bias is 5.9 % of the benchmark rotor's rated speed but 13 % of a rotor rated at 7.5
   // rpm.
-  const TurbineParams turbine =
-      load_turbine_params_file(s.get_path("turbine_file", deploy_dir() + "/turbine/benchmark_4.8MW.yaml"));
+  const TurbineParams turbine = configured_turbine(s);
   c.rotor_speed_bias_limit = s.get_number(
       "rotor_speed_bias_limit",
       s.get_number("rotor_speed_bias_limit_share", 0.0586, 0.0, 1.0) * turbine.rated_rotor_speed(), 0.0,

@@ -108,9 +108,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   // (5.08e7 N m on the benchmark rotor, 1.71e7 on the example 2 MW one): a constant tuned to one rotor would
   // call a larger rotor's loads out of range and miss a smaller one's implausible readings.
   v.max_moment = y.get_number("max_moment", 0.0, 0.0, 1e10);
-  if (v.max_moment == 0.0)
-    v.max_moment = 0.5 * turbine.air_density * turbine.rotor_area() * 25.0 * 25.0 *
-                   (2.0 * turbine.rotor_radius / 3.0) / 3.0;
+  if (v.max_moment == 0.0) v.max_moment = AeroModel::moment_scale(turbine) * 25.0 * 25.0;
   v.invalid_time = y.get_number("invalid_time", v.invalid_time, 0.0, 600.0);
   DetectionConfig& d = c.detection;
   d.significance = y.get_number("significance", d.significance, 1e-12, 0.1);

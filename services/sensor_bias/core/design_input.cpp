@@ -204,8 +204,8 @@ DesignInput design_for_turbine(const std::string& template_file, const std::stri
 }
 
 GainFile gain_for_turbine(const GainFile& gain, const std::string& gain_key, const std::string& design_file,
-                          const std::string& turbine_file, bool design, std::string& note) {
-  const TurbineParams turbine = load_turbine_params_file(turbine_file);
+                          const std::string& turbine_file, const TurbineParams& turbine, bool design,
+                          std::string& note) {
   if (gain_fits_turbine(gain, turbine)) return gain;
   const std::string what = gain.file + " was designed for another turbine than " + turbine_file;
   if (!design)

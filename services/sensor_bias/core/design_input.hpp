@@ -57,11 +57,13 @@ GainFile parse_gain_file(const std::string& text, const std::string& source);
 /// A and B (the drive train with the gain's own aero_damping) within a relative 1e-6. A gain designed for
 /// another turbine's inertias, stiffness or pitch actuator estimates that turbine's biases, not this one's.
 bool gain_fits_turbine(const GainFile& gain, const TurbineParams& turbine);
-/// `gain` if it fits the turbine of `turbine_file`; otherwise, with `design` allowed, a gain designed now
-/// from `design_file` made for that turbine (design_for_turbine; `note` says so, with the design's alpha and
-/// time), else a ConfigError naming `gain_key` and both files. Infeasible designs are ConfigErrors too.
+/// `gain` if it fits `turbine`, the turbine of `turbine_file`; otherwise, with `design` allowed, a gain
+/// designed now from `design_file` made for that turbine (design_for_turbine; `note` says so, with the
+/// design's alpha and time), else a ConfigError naming `gain_key` and both files. Infeasible designs are
+/// ConfigErrors too.
 GainFile gain_for_turbine(const GainFile& gain, const std::string& gain_key, const std::string& design_file,
-                          const std::string& turbine_file, bool design, std::string& note);
+                          const std::string& turbine_file, const TurbineParams& turbine, bool design,
+                          std::string& note);
 
 /// Reads a matrix (list of rows) or a vector (list of numbers as a column); throws ConfigError on bad shape.
 Eigen::MatrixXd yaml_matrix(const YamlSection& s, const std::string& key);

@@ -235,7 +235,7 @@ TEST(QbDesign, AnotherTurbinesGainIsDesignedForItFromItsFileAlone) {
   // ... and a gain that does not fit is designed at start: it fits, is certified, and bounds the biases as
   // the hand-made gain does (within 5 %)
   std::string note;
-  const GainFile designed = gain_for_turbine(bench, "drive_train_gains", design, two_mw, true, note);
+  const GainFile designed = gain_for_turbine(bench, "drive_train_gains", design, two_mw, two, true, note);
   EXPECT_NE(note.find("designed from design_drive_train_observer.yaml"), std::string::npos) << note;
   EXPECT_TRUE(gain_fits_turbine(designed, two));
   EXPECT_LT(designed.lmi_max_eigenvalue, 0.0);
@@ -247,10 +247,10 @@ TEST(QbDesign, AnotherTurbinesGainIsDesignedForItFromItsFileAlone) {
   // AND a gain that fits is kept as it is, and without design_for_turbine a misfit is a ConfigError naming
   // the key
   note.clear();
-  EXPECT_EQ(gain_for_turbine(by_hand, "drive_train_gains", design, two_mw, true, note).K, by_hand.K);
+  EXPECT_EQ(gain_for_turbine(by_hand, "drive_train_gains", design, two_mw, two, true, note).K, by_hand.K);
   EXPECT_TRUE(note.empty());
   try {
-    gain_for_turbine(bench, "drive_train_gains", design, two_mw, false, note);
+    gain_for_turbine(bench, "drive_train_gains", design, two_mw, two, false, note);
     ADD_FAILURE() << "a gain of another turbine was taken";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("drive_train_gains"), std::string::npos) << e.what();
