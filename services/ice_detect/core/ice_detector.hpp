@@ -38,6 +38,10 @@ struct DetectorConfig {
   /// The first warning also needs this much evidence: the fresh seconds' rise above the warning level,
   /// summed, each second below taking its shortfall back (share of J0 times s; 0: first_confirm_time alone)
   double first_evidence = 1.0;
+  /// A fresh second counts fully toward the first warning's time and evidence once the regression's
+  /// excitation is this many times min_excitation; nearer the gate it counts ((e/g)^2 - 1) / (k^2 - 1) of a
+  /// second (the estimate's variance falls as the excitation squared). 1: every fresh second counts fully
+  double first_excitation = 1.3;
   /// The first warning also needs a rise of this many standard deviations of the clean rotor's estimate,
   /// learned from its fall below J0 (ice only raises the inertia, so that half is the estimator's error
   /// alone); 0: warning_rise alone
@@ -148,6 +152,8 @@ class IceDetector {
   double clean_sd() const { return std::sqrt(2.0 * below_square_); }
   /// The rise the first warning needs.
   double first_warning_rise() const;
+  /// The share of a second this second's estimate counts toward the first warning (first_excitation).
+  double first_warning_weight() const;
   struct SlowPoint {
     double t, inertia;
     bool iced;  // ice was reported then at severity fault or above

@@ -461,9 +461,11 @@ TEST(IceDetector, AMinuteLongExcursionNearRatedWindIsNoFirstReportWhereIceThatSt
   // over the fresh seconds (1.0: a minute at +1.7 % above it), each second below taking its shortfall back
   // ...
   EXPECT_TRUE(r.events.empty()) << describe(r);
-  // ... where a minute above the level (first_confirm_time 60 s, without the evidence) raised it
+  // ... where a minute above the level (first_confirm_time 60 s, without the evidence, every fresh second
+  // counting fully) raised it
   const auto before =
-      run_turbine(t, 2400, true, {}, 73002, config("{first_confirm_time: 60, first_evidence: 0}"), {}, p);
+      run_turbine(t, 2400, true, {}, 73002,
+                  config("{first_confirm_time: 60, first_evidence: 0, first_excitation: 1}"), {}, p);
   ASSERT_FALSE(before.events.empty()) << "the excursion no longer happens: this test no longer tests";
   EXPECT_EQ(before.events.front().fault, "ice_accretion");
   // AND 7 % of ice that stays (850 kg from 600 s over 300 s), the same wind, is still reported
@@ -485,12 +487,42 @@ TEST(IceDetector, AtLowTurbulenceTheFirstWarningMustStandOutOfTheCleanRotorsOwnE
   // error, learned from the estimates below J0 (ice cannot put them there) ...
   EXPECT_TRUE(r.events.empty()) << describe(r);
   // ... where the warning level alone raised it (with a minute above it as the first report's only
-  // confirmation, as when this was written)
-  const auto fixed = run_turbine(t, 1500, true, {}, 51009,
-                                 config("{warning_sigmas: 0, first_confirm_time: 60, first_evidence: 0}"), {},
-                                 TurbineParams{});
+  // confirmation, every fresh second counting fully, as when this was written)
+  const auto fixed = run_turbine(
+      t, 1500, true, {}, 51009,
+      config("{warning_sigmas: 0, first_confirm_time: 60, first_evidence: 0, first_excitation: 1}"), {},
+      TurbineParams{});
   ASSERT_FALSE(fixed.events.empty()) << "the excursion no longer happens: this test no longer tests";
   EXPECT_EQ(fixed.events.front().fault, "ice_accretion");
+}
+
+TEST(IceDetector, AFirstWarningCountsBarelyExcitedWindowsForLittle) {
+  // GIVEN the example 2 MW turbine's clean rotor at 8 m/s and 9 % turbulence as the multi-fault suite's
+  // healthy scenario 51_02 runs it (turbine WT01, seed 51002): near 2330 s the estimate climbs from -2.5 % to
+  // +6.3 % of J0 within two minutes and stands above the 4.65 % warning for about 130 s, from windows whose
+  // excitation is 1.02-1.30 times the regression's gate (median 1.11)
+  const TurbineParams p = example_2mw();
+  const plant::TurbineScenario t = healthy_suite_turbine("WT01", 8.0, 0.09, 0.117, 0.03);
+  const auto r = run_turbine(t, 2700, true, {}, 51002, defaults(), {}, p);
+  // THEN no ice is raised: such a second counts ((e/g)^2 - 1) / (k^2 - 1) of a second toward the first
+  // warning's time and evidence (first_excitation k = 1.3), and the evidence takes the lower of the median
+  // and the second's own estimate (either alone holds this one back) ...
+  EXPECT_TRUE(r.events.empty()) << describe(r);
+  // ... where the minute above the level, every fresh second counting fully, raised the warning
+  const auto before =
+      run_turbine(t, 2700, true, {}, 51002, config("{first_excitation: 1, first_evidence: 0}"), {}, p);
+  ASSERT_FALSE(before.events.empty()) << "the excursion no longer happens: this test no longer tests";
+  EXPECT_EQ(before.events.front().fault, "ice_accretion");
+  // AND 6.8 % of ice that stays (835 kg from 900 s over 300 s) on the same rotor in the same wind is still
+  // reported within 600 s of the end of its ramp
+  auto ice = plant::FaultSpec::make("WT01", "rotor", "ice_accretion", 900).with_value(835);
+  ice.ramp_in = 300;
+  const auto iced = run_turbine(t, 2100, true, {ice}, 51002, defaults(), {}, p);
+  ASSERT_FALSE(iced.events.empty()) << describe(iced);
+  EXPECT_EQ(iced.events.front().fault, "ice_accretion");
+  EXPECT_LT(iced.events.front().t, 900.0 + 300.0 + 600.0) << describe(iced);
+  std::printf("[measured] 2 MW, 8 m/s, TI 0.09: 6.8 %% ice raised %.0f s after its onset\n",
+              iced.events.front().t - 900.0);
 }
 
 TEST(IceDetector, FastAccretionDoesNotOvershootIntoCritical) {
@@ -702,13 +734,16 @@ TEST(IceDetector, OnAMediumSpeedDriveTrainItsOwnRatedValuesSetWhereItEstimates) 
   const YamlSection absolute =
       config("min_excitation: 2.0\nmin_generator_speed: 30\nmin_gen_torque: 3000\nshed_min_excitation: 0.5");
   for (double wind : {7.0, 9.0}) {
-    // THEN the inertia is estimated and the ice raised during or after its accretion, nothing before
+    // THEN the inertia is estimated and the ice raised during its accretion or within 600 s of its end (the
+    // multi-fault suite's delay for a ramped accretion), nothing before. At 7 m/s this rotor's regression is
+    // barely excited, and the first warning counts such seconds for little (first_excitation): 553 s after
+    // the onset without, about 870 s with it
     const auto r = run_plant(wind, 1500, true, {ice}, 0.0, 41, shipped, {}, p);
     EXPECT_GT(r.estimates, 1000) << wind;
     ASSERT_FALSE(r.events.empty()) << wind;
     EXPECT_EQ(r.events.front().fault, "ice_accretion") << describe(r);
     EXPECT_GT(r.events.front().t, 400.0) << describe(r);
-    EXPECT_LT(r.events.front().t, 1100.0) << describe(r);
+    EXPECT_LT(r.events.front().t, 400.0 + 300.0 + 600.0) << describe(r);
     std::printf(
         "[ measured ] medium speed, %.0f m/s: ice raised %.0f s after the onset, inertia rms error %.2f %%\n",
         wind, r.events.front().t - 400.0, 100.0 * r.rms);
