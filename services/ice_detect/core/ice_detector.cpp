@@ -494,9 +494,11 @@ void IceDetector::level_events(double t, std::vector<FaultEvent>& events) {
   // the real accretions of the same rotors at 8-9 m/s were raised from windows at a median 1.22-2.53 times
   // it.
   const double weight = first_warning_weight();
+  // A second counts toward a level only with a fresh estimate and a median at least half full.
+  const bool counted = fresh_ && 2 * recent_.size() >= static_cast<std::size_t>(cfg_.median_estimates);
   if (raised_level_ > 0) {
     first_evidence_ = 0.0;
-  } else if (fresh_ && 2 * recent_.size() >= static_cast<std::size_t>(cfg_.median_estimates)) {
+  } else if (counted) {
     // The lower of the median and this second's estimate: a median still full of an excursion's estimates
     // after the estimate came back (a calm spell between) is no new evidence (2 MW healthy seed 92: +8.2 %
     // held while the estimate was back at +4.5 %)
@@ -508,8 +510,7 @@ void IceDetector::level_events(double t, std::vector<FaultEvent>& events) {
       above_since_ = t;
       above_fresh_ = 0.0;
     }
-    if (fresh_ && 2 * recent_.size() >= static_cast<std::size_t>(cfg_.median_estimates))
-      above_fresh_ += raised_level_ == 0 ? weight : 1.0;
+    if (counted) above_fresh_ += raised_level_ == 0 ? weight : 1.0;
     // A clean rotor's first report is the warning, after first_confirm_time: on the example 2 MW turbine the
     // 120 s regression's error wanders by +-4 % of J0 for minutes at 8 m/s, and an excursion held 40 s at
     // 1.01-1.08 times the 4.65 % warning was raised as ice 10 s into it (2 MW healthy hours, suite seed 40).
