@@ -45,6 +45,8 @@ Identifier::Identifier(const IdentifierConfig& config) : cfg_(config) {
   c_hp_ = cfg_.highpass_hz > 0.0 ? std::exp(-2.0 * M_PI * cfg_.highpass_hz * cfg_.T) : 0.0;
   lambda_pe_ = 1.0 - cfg_.T / std::max(cfg_.pe_window, cfg_.T);
   settle_samples_ = std::max(3, static_cast<int>(std::lround(cfg_.restart_settle / cfg_.T)));
+  if (cfg_.highpass_hz > 0.0 && cfg_.level_window > 0.0)
+    level_samples_ = settle_samples_ + static_cast<int>(std::lround(cfg_.level_window / cfg_.T));
   pe_scale_ = 1.0 / (cfg_.pe_omega * cfg_.T);
   Phi_.assign(std::max(1, cfg_.p), Eigen::Vector4d::Zero());
   Y_.assign(std::max(1, cfg_.p), 0.0);
@@ -108,6 +110,52 @@ void Identifier::forget() {
   restart();
 }
 
+void Identifier::start_level_fit(double u) {
+  level_refit_ = false;
+  level_seen_ = 0;
+  lu1_ = lu2_ = lx1_ = lx2_ = u;
+  ln_ = lr_ = ld_ = ldd_ = lrd_ = 0.0;
+}
+
+void Identifier::level_fit_step(double u, double y, bool judged) {
+  // The high-pass starts at the first sample with u_f = y_f = 0: it takes that sample's tracking error as a
+  // level difference, and each residual then carries it as an offset decaying with the filter (8 s at 0.02
+  // Hz). At a swinging reference a healthy blade starts up to a degree off it (the plant: 0.8 deg at 12 m/s),
+  // and the bank read that slow offset as a slow actuator (a leak raised on a healthy blade 51-56 s after a
+  // start). The true level difference is a constant pitch offset o; the rest of y - u is the actuator's lag.
+  // So the healthy model runs on the raw reference, and its residual r = y - x is fitted over the window as
+  // o + b dx/dt: b takes up what another actuator's lag adds (a leak lags 0.4 s more), o is the level.
+  if (level_refit_) start_level_fit(u);  // lost samples broke the model's history: the window starts again
+  const Theta& th = theta0_;
+  const double x = -th(0) * lx1_ - th(1) * lx2_ + th(2) * lu1_ + th(3) * lu2_;
+  const double d = (x - lx1_) / cfg_.T;
+  lx2_ = lx1_;
+  lx1_ = x;
+  lu2_ = lu1_;
+  lu1_ = u;
+  // The model starts at rest at the reference; its own transient is over within restart_settle.
+  if (judged && ++level_seen_ > settle_samples_) {
+    const double r = y - x;
+    ln_ += 1.0;
+    lr_ += r;
+    ld_ += d;
+    ldd_ += d * d;
+    lrd_ += r * d;
+  }
+  if (level_seen_ < level_samples_) return;
+  level_pending_ = false;
+  if (ln_ < 10.0) return;  // nothing judged in the window: the first sample's level stands
+  const double mean_r = lr_ / ln_, mean_d = ld_ / ln_;
+  const double var_d = ldd_ / ln_ - mean_d * mean_d;
+  // A reference that stands still (var_d ~ 0) has no lag to fit: the mean residual is the level.
+  const double b = var_d > 1e-6 ? (lrd_ / ln_ - mean_r * mean_d) / var_d : 0.0;
+  const double offset = mean_r - b * mean_d;
+  // y_f as if the filters had started with the level difference `offset` instead of the first sample's y - u:
+  // the start's error, decayed by the filter since, leaves y_f (LTI: it adds as level_decay_ times it).
+  yf_ += (level_start_gap_ - offset) * level_decay_;
+  restart();  // the models start afresh on the corrected levels
+}
+
 void Identifier::restart() {
   // The level-removal filters keep their state: the next sample continues them as if the lost stretch had
   // been one step, so u_f and y_f keep the same levels. Restarting them at the new sample instead put the
@@ -115,6 +163,7 @@ void Identifier::restart() {
   // forget: an offset common to every residual, which biased the bank for seconds after each gap.
   reseat_ = true;
   since_restart_ = 0;
+  level_refit_ = level_pending_;
   // Held until eq 20 holds again on data after the restart: the old excitation says nothing about now.
   excited_ = cfg_.pe_threshold <= 0.0;  // without the eq 20 gate every sample counts as exciting
   info_excited_ = false;
@@ -128,12 +177,17 @@ void Identifier::restart() {
 }
 
 void Identifier::update(double u, double y, bool judged) {
+  level_decay_ *= c_hp_;  // a level error of the first sample's y_f, filtered since (1 at that sample)
   if (!started_) {
     // Level removal starts from the current operating point: u_f = y_f = 0 and the models at rest.
     started_ = true;
     u_raw1_ = u;
     y_raw1_ = y;
     uf_ = yf_ = 0.0;
+    level_decay_ = 1.0;
+    level_start_gap_ = y - u;
+    level_pending_ = level_samples_ > 0;
+    if (level_pending_) start_level_fit(u);
   }
   double uf = u, yf = y;
   if (c_hp_ > 0.0) {
@@ -146,6 +200,10 @@ void Identifier::update(double u, double y, bool judged) {
   y_raw1_ = y;
   uf_ = uf;
   yf_ = yf;
+  if (level_pending_) {
+    level_fit_step(u, y, judged);
+    yf = yf_;
+  }
   if (reseat_) {
     // After a (re)start the history is this sample: regressor lags, the auxiliary model and every bank model
     // at rest at the current reference. The actuator's own state differs (tracking lag, rate, noise); that
@@ -178,7 +236,7 @@ void Identifier::update(double u, double y, bool judged) {
     }
   }
 
-  const bool settled = judged && since_restart_ >= settle_samples_;
+  const bool settled = judged && since_restart_ >= settle_samples_ && !level_pending_;
   const bool learn = excited_ && settled;
   if (cfg_.method == Method::kBank) {
     bank_step(yf, settled);

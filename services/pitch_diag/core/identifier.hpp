@@ -39,6 +39,9 @@ struct IdentifierConfig {
   double p0 = 1e-3;             ///< initial covariance: RLS p0 I (theta), oe_rls p0 diag(omega_n0^2, zeta0^2)
   double highpass_hz = 0.02;    ///< Hz, level removal on u and y alike (first-order high-pass); 0: raw
   double restart_settle = 1.0;  ///< s after a (re)start in which filters settle and nothing is identified
+  double level_window = 5.0;    ///< s after the first sample over which the pitch's level relative to the
+                                ///< reference is fitted before anything is identified (0: the first sample's
+                                ///< tracking error is taken as level, and decays through the high-pass)
   double omega_n0 = 11.11;      ///< rad/s, initial model (the healthy actuator)
   double zeta0 = 0.6;           ///< initial damping ratio
   double pe_window = 2.0;       ///< s, window of the eq 20 test: the estimator memory (bank: 2 s)
@@ -142,6 +145,18 @@ class Identifier {
   int oe_count_ = 0;
   void oe_refresh();
   int since_restart_ = 0;
+  // The level fit of the first level_window (see start_level_fit()): the healthy model run on the raw
+  // reference, and sums of its residual r against its rate d.
+  void start_level_fit(double u);
+  void level_fit_step(double u, double y, bool judged);
+  int level_samples_ = 0;         // level_window in samples; 0: no fit
+  bool level_pending_ = false;    // the fit is still running: nothing is identified
+  bool level_refit_ = false;      // a restart during the fit: it starts again at the next sample
+  int level_seen_ = 0;            // samples since the fit (re)started
+  double level_decay_ = 1.0;      // c_hp^n, n samples since the first: what is left of a level error then
+  double level_start_gap_ = 0.0;  // y - u at the first sample: the level difference the filters started with
+  double lu1_ = 0.0, lu2_ = 0.0, lx1_ = 0.0, lx2_ = 0.0;  // raw u(t-1), u(t-2); healthy model x(t-1), x(t-2)
+  double ln_ = 0.0, lr_ = 0.0, ld_ = 0.0, ldd_ = 0.0, lrd_ = 0.0;  // sums of 1, r, d, d^2, r d
   // Estimators.
   Theta theta_;
   Theta theta_sim_;                   // last stable estimate: drives the auxiliary model

@@ -29,6 +29,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s, const TurbineParams
                         "p0",
                         "highpass_hz",
                         "restart_settle",
+                        "level_window",
                         "pe_window",
                         "pe_omega",
                         "pe_threshold",
@@ -86,6 +87,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s, const TurbineParams
   id.p0 = s.get_number("p0", id.p0, 1e-9, 1e6);
   id.highpass_hz = s.get_number("highpass_hz", id.highpass_hz, 0.0, 1.0);
   id.restart_settle = s.get_number("restart_settle", id.restart_settle, 0.0, 60.0);
+  id.level_window = s.get_number("level_window", id.level_window, 0.0, 60.0);
   id.pe_window = s.get_number("pe_window", id.pe_window, 0.1, 600.0);
   id.pe_omega = s.get_number("pe_omega", id.pe_omega, 0.01, 100.0);
   id.pe_threshold = s.get_number("pe_threshold", id.pe_threshold, 0.0, 1e6);
