@@ -323,8 +323,11 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   // Only ice that was reported can fall off: without it a drop is estimation noise.
   const bool iced = out_.ice_mass >= ice_mass_at(cfg_.shed_min_rise) && raised_level_ > 0;
   // After a shedding the slow estimate needs a window and a median to come down: until then its lag is no
-  // drop.
-  const bool settled = shed_last_ < 0.0 || t - shed_last_ >= cfg_.estimator.window + cfg_.median_estimates;
+  // drop. A median of fresh estimates, that is: held through a calm spell it still says what it said before
+  // the shedding, and the next excited minute of the fast estimate raised the same ice shed again (three
+  // sheddings of one false warning on the medium-speed rotor at 12 m/s, healthy suite seed 98).
+  if (fresh_ && shed_last_ >= 0.0 && t - shed_last_ >= cfg_.estimator.window) fresh_after_shed_ += 1.0;
+  const bool settled = shed_last_ < 0.0 || fresh_after_shed_ >= cfg_.median_estimates;
   const double threshold = shed_threshold();
   const bool dropping = fast > 0.0 && drop >= threshold * j0_ && iced && settled;
   // The fast estimate's own noise about the reported one, learned from quiet seconds (no drop under way, none
@@ -400,6 +403,7 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   const bool fast_drop = dropping && t - shed_since_ >= confirm;
   if (shed_raised_at_ < 0.0 && (cp_recovered || fast_drop || slow_drop)) {
     shed_raised_at_ = shed_last_ = t;
+    fresh_after_shed_ = 0.0;
     slow_history_.clear();
     const bool fast_route = !cp_recovered && fast_drop;
     FaultEvent e = rotor_event("ice_shedding", true, "warning", t, fast_route ? shed_since_ : t);

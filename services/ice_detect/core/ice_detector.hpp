@@ -41,7 +41,7 @@ struct DetectorConfig {
   /// A fresh second counts fully toward the first warning's time and evidence once the regression's
   /// excitation is this many times min_excitation; nearer the gate it counts ((e/g)^2 - 1) / (k^2 - 1) of a
   /// second (the estimate's variance falls as the excitation squared). 1: every fresh second counts fully
-  double first_excitation = 1.3;
+  double first_excitation = 1.5;
   /// The first warning also needs a rise of this many standard deviations of the clean rotor's estimate,
   /// learned from its fall below J0 (ice only raises the inertia, so that half is the estimator's error
   /// alone); 0: warning_rise alone
@@ -179,6 +179,7 @@ class IceDetector {
   double shed_raised_at_ = -1.0;
   uint64_t power_changes_seen_ = 0;
   double shed_last_ = -1.0;
+  double fresh_after_shed_ = 0.0;  // fresh seconds from windows wholly after the last shedding
   InputContext context_;
   bool fed_ = false;  // the last sample was fed to the estimators
   struct Fed {
