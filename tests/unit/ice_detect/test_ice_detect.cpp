@@ -765,12 +765,13 @@ TEST(IceDetector, ASheddingIsNotRaisedAgainFromAReportedEstimateHeldSinceIt) {
   // as the multi-fault suite's healthy scenario 98_03 runs it (turbine WT02, seed 98003): its regression is
   // barely excited, the estimate stood at +5.6-6.9 % of J0 for 80 s and a warning was raised; then the
   // reported estimate was held (unexcited) at +6.7 % for 600 s while the fast one read the clean rotor
-  const YamlSection shipped =
-      YamlSection::load_file(std::string(WINDFDI_SOURCE_DEPLOY_DIR) + "/config/ice_detect.yaml");
+  const YAML::Node shipped_file =
+      YAML::LoadFile(std::string(WINDFDI_SOURCE_DEPLOY_DIR) + "/config/ice_detect.yaml");
+  const YamlSection shipped(shipped_file, "ice_detect.yaml");
   const plant::TurbineScenario t = healthy_suite_turbine("WT02", 12.0, 0.076, 0.272, 0.03);
   // ... with the first warning of stop 45 (first_excitation 1.3), which those windows (1.04-1.23 times the
   // regression's gate) passed
-  YAML::Node stop45 = YAML::LoadFile(std::string(WINDFDI_SOURCE_DEPLOY_DIR) + "/config/ice_detect.yaml");
+  YAML::Node stop45 = YAML::Clone(shipped_file);
   stop45["first_excitation"] = 1.3;
   const auto r = run_turbine(t, 2400, true, {}, 98003, YamlSection(stop45, "ice_detect.yaml"), {},
                              example_3mw_medium_speed());
