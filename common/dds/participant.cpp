@@ -48,6 +48,11 @@ void load_profiles_once(const std::string& file) {
     if (const char* v = std::getenv(var); v && *v)
       spdlog::warn("{}={} is set: it changes Fast DDS behaviour beside {}", var, v, file);
 }
+std::shared_ptr<eprosima::fastdds::rtps::SharedMemTransportDescriptor> as_shm(
+    const std::shared_ptr<eprosima::fastdds::rtps::TransportDescriptorInterface>& t) {
+  return std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(t);
+}
+
 // Shared memory a participant's SHM transport maps beside its segment: its port queues and their locks.
 constexpr uint64_t kShmPortRoom = 2u << 20;
 
@@ -58,21 +63,15 @@ void use_udp_without_shm_room(DomainParticipantQos& qos, const std::string& name
   auto& transports = qos.transport().user_transports;
   uint64_t needed = 0;
   for (const auto& t : transports)
-    if (const auto shm = std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(t))
-      needed = std::max<uint64_t>(needed, shm->segment_size() + kShmPortRoom);
+    if (const auto shm = as_shm(t)) needed = std::max<uint64_t>(needed, shm->segment_size() + kShmPortRoom);
   if (needed == 0) return;
   struct statvfs fs {};
   if (statvfs("/dev/shm", &fs) != 0) return;  // no /dev/shm to ask: Fast DDS says what it finds
   const uint64_t free_bytes = static_cast<uint64_t>(fs.f_bavail) * fs.f_frsize;
   if (free_bytes >= needed) return;
-  transports.erase(
-      std::remove_if(
-          transports.begin(), transports.end(),
-          [](const auto& t) {
-            return std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(t) !=
-                   nullptr;
-          }),
-      transports.end());
+  transports.erase(std::remove_if(transports.begin(), transports.end(),
+                                  [](const auto& t) { return as_shm(t) != nullptr; }),
+                   transports.end());
   spdlog::warn(
       "{}: /dev/shm has {:.1f} MB free, shared memory needs {:.1f} MB: running over UDP alone (slower "
       "between "
@@ -83,7 +82,7 @@ void use_udp_without_shm_room(DomainParticipantQos& qos, const std::string& name
 
 bool has_shm_transport(const DomainParticipantQos& qos) {
   for (const auto& t : qos.transport().user_transports)
-    if (std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(t)) return true;
+    if (as_shm(t)) return true;
   return false;
 }
 

@@ -6,9 +6,9 @@
 
 namespace windfdi::blade_load {
 
-bool HealthyChannels::learn(double t, const BladeChannels& x) {
+std::array<bool, kChannels> HealthyChannels::learn(double t, const BladeChannels& x) {
   // Learn each channel's healthy distribution in the start-up phase, then freeze it.
-  bool frozen = false;
+  std::array<bool, kChannels> frozen{};
   for (int c = 0; c < kChannels; ++c) {
     if (stats_[0][c].learned) continue;
     if (!(std::isfinite(x[0][c]) && std::isfinite(x[1][c]) && std::isfinite(x[2][c]))) continue;
@@ -19,7 +19,7 @@ bool HealthyChannels::learn(double t, const BladeChannels& x) {
         stats_[b][c] = learners_[b][c].freeze();
         learners_[b][c].clear();
       }
-      frozen = true;
+      frozen[c] = true;
     }
   }
   return frozen;

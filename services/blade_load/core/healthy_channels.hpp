@@ -32,9 +32,9 @@ class HealthyChannels {
  public:
   explicit HealthyChannels(const LearningConfig& c) : c_(c) {}
 
-  /// One revolution's values at time t (s). Returns true when a channel's learning ended now (its statistics
-  /// are frozen).
-  bool learn(double t, const BladeChannels& x);
+  /// One revolution's values at time t (s). Returns, per channel, whether its learning ended now (its
+  /// statistics were frozen from the revolutions seen).
+  std::array<bool, kChannels> learn(double t, const BladeChannels& x);
   /// Slow winsorised update of the learned statistics with one revolution's values, over the revolution time
   /// (s); a blade whose tests exceed now (`exceeding`) is left out. Call only while nothing is raised.
   void adapt(const BladeChannels& x, double revolution_time, const std::array<bool, 3>& exceeding);

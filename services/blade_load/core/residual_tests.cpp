@@ -117,21 +117,18 @@ void ResidualTests::revolution(double t, double revolution_time, const BladeChan
     while (B.history.size() > keep) B.history.pop_front();
     while (B.t_history.size() > keep) B.t_history.pop_front();
   }
-  std::array<bool, kChannels> was_learned{};
-  for (int c = 0; c < kChannels; ++c) was_learned[c] = healthy_.learned(c);
-  if (healthy_.learn(t, x)) {
-    critical_values();
-    // A revolution the statistics were learned from is not tested against them: its window mean is no sample
-    // independent of the learned median, and the drift test's noise level (drift_noise_) is followed only
-    // from the freeze. A lull in the learning's last ten revolutions (single revolutions at +3 to +6 % on one
-    // blade, which the robust median and MAD rightly leave out) put the first windows' means 1.1-1.5 % off
-    // and raised a drift on the 4th revolution after the freeze (healthy suite seed 102 at 12 m/s, TI 0.146:
-    // 225.8 s on the 2 MW rotor, 238.2 s on the benchmark one, the fresh revolutions reading 0.1-0.5 %).
-    for (int c = 0; c < kChannels; ++c)
-      if (!was_learned[c] && healthy_.learned(c))
-        for (auto& B : blades_)
-          for (auto& v : B.history) v[c] = kNaN;
-  }
+  const std::array<bool, kChannels> frozen = healthy_.learn(t, x);
+  if (std::find(frozen.begin(), frozen.end(), true) != frozen.end()) critical_values();
+  // A revolution the statistics were learned from is not tested against them: its window mean is no sample
+  // independent of the learned median, and the drift test's noise level (drift_noise_) is followed only from
+  // the freeze. A lull in the learning's last ten revolutions (single revolutions at +3 to +6 % on one blade,
+  // which the robust median and MAD rightly leave out) put the first windows' means 1.1-1.5 % off and raised
+  // a drift on the 4th revolution after the freeze (healthy suite seed 102 at 12 m/s, TI 0.146: 225.8 s on
+  // the 2 MW rotor, 238.2 s on the benchmark one, the fresh revolutions reading 0.1-0.5 %).
+  for (int c = 0; c < kChannels; ++c)
+    if (frozen[c])
+      for (auto& B : blades_)
+        for (auto& v : B.history) v[c] = kNaN;
   drift_test(lidar_ok);
   // Slow healthy adaptation, only while nothing is raised anywhere on the turbine.
   if (!any_raised())
