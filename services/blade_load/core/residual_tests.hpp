@@ -47,6 +47,11 @@ struct DetectionConfig {
   // Isolation: the other blades as witnesses.
   double isolation_ratio = 0.5;  ///< cross-blade channels: the other two blades must agree with each other,
                                  ///< |x_o1 - x_o2| <= this * |x_b - mean(x_o)| (a single-sensor fault, 0..2)
+  /// While another blade's gauge fault is raised, a new cross-blade raise needs this blade's own LIDAR
+  /// residual beyond the onset level and above the unraised other blade's (none without the LIDAR): one
+  /// witness is left, and a load change on it reads as this blade's opposite excursion. false: as before
+  /// stop 48
+  bool second_fault_model_witness = true;
   /// kConfirm: the LIDAR residual counts only if the cross-blade model residual agrees (sign and
   /// witness_significance); kSensors: and the gauges' own cross-blade amplitude is beyond the same test's
   /// critical value, in the same direction; kOff: the paper's LIDAR residual alone.
@@ -118,6 +123,9 @@ class ResidualTests {
   bool standalone(int channel, bool lidar_ok) const;  // may decide alone now
   // The LIDAR residual's t confirmed by the witnesses (crit: the test's critical values).
   bool witnessed(const BladeChannels& t, int blade, const std::array<double, kChannels>& crit) const;
+  // A new raise on a cross-blade channel while another blade's gauge is raised: its own LIDAR residual
+  // (t, beyond the onset level of model_crit) must say it is this blade, more than the unraised other's.
+  bool second_fault_witnessed(const BladeChannels& t, int blade, double model_crit, bool lidar_ok) const;
   double t_value(int blade, int channel, double x) const;  // NaN when not learned or x is not available
   void follow_noise(const BladeChannels& x);
   void drift_test(bool lidar_ok);
