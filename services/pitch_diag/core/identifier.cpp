@@ -103,10 +103,12 @@ void Identifier::forget() {
   info_weight_ = 1.0;  // (info_mean_ and info_excited_: restart() below)
   if (cfg_.method == Method::kBank) {
     bV_ = Eigen::ArrayXd::Zero(ba1_.size());
+    bVi_ = Eigen::ArrayXd::Zero(ba1_.size());
     bx1_ = Eigen::ArrayXd::Zero(ba1_.size());
     bx2_ = Eigen::ArrayXd::Zero(ba1_.size());
   }
   bW_ = 0.0;
+  bWi_ = 0.0;
   restart();
 }
 
@@ -365,6 +367,16 @@ void Identifier::bank_step(double yf, bool settled) {
     // would; a fault then has to undo it before its own evidence counts. Bounded while the window is poor.
     if (cfg_.evidence_max > 0.0 && info_weight_ < 1.0)
       bV_ = bV_.min(bV_(0) + cfg_.evidence_max * std::max(bV_.minCoeff() / bW_, 1e-12));
+    if (cfg_.information_evidence && cfg_.information_ref > 0.0) {
+      // The same residuals on the information clock whether or not eq 20 holds (a turbulent window carries
+      // information_ref or more: there the two memories are the same), bounded alike.
+      const double w = std::min(1.0, info_mean_ / cfg_.information_ref);
+      const double li = 1.0 - (1.0 - cfg_.bank_lambda) * w;
+      bVi_ = li * bVi_ + (yf - x).square();
+      bWi_ = li * bWi_ + 1.0;
+      if (cfg_.evidence_max > 0.0 && w < 1.0)
+        bVi_ = bVi_.min(bVi_(0) + cfg_.evidence_max * std::max(bVi_.minCoeff() / bWi_, 1e-12));
+    }
     ++updates_;
   }
   bx2_ = bx1_;
@@ -419,6 +431,25 @@ bool Identifier::decisive() const {
   bV_.minCoeff(&best);
   const bool fault = bpath_[best] >= 0 && balpha_[best] >= cfg_.decide_alpha - 1e-9;
   return !fault || evidence() >= cfg_.evidence_min;
+}
+
+bool Identifier::decisive_by_information() const {
+  if (cfg_.method != Method::kBank || !cfg_.information_evidence || cfg_.evidence_min <= 0.0) return false;
+  if (updates_ == 0 || (cfg_.bank_pe_gate && !excited()) || since_restart_ < settle_samples_) return false;
+  // Where the window carried information_ref or more the two memories are the same.
+  if (!(cfg_.information_ref > 0.0 && info_mean_ < cfg_.information_ref)) return false;
+  Eigen::Index best;
+  bV_.minCoeff(&best);
+  const bool fault = bpath_[best] >= 0 && balpha_[best] >= cfg_.decide_alpha - 1e-9;
+  return fault && information_evidence() >= cfg_.evidence_min;
+}
+
+double Identifier::information_evidence() const {
+  if (cfg_.method != Method::kBank || bWi_ <= 0.0) return 0.0;
+  Eigen::Index best;
+  bV_.minCoeff(&best);
+  const double vb = bVi_(best);
+  return (bVi_(0) - vb) / std::max(vb / bWi_, 1e-12);
 }
 
 double Identifier::evidence() const {

@@ -64,6 +64,11 @@ struct IdentifierConfig {
   double evidence_max = 10.0;     ///< bank: while the memory is stretched (above), the most evidence for the
                                ///< healthy actuator against any model that is kept, in sigma^2 (a fault must
                                ///< undo it before its own evidence counts). 0: unbounded
+  bool information_evidence = true;  ///< bank: a fault decision may also rest on residuals remembered in
+                                     ///< information whether or not eq 20 holds (decisive_by_information; the
+                                     ///< best model is the 2 s bank's): a slow swing with a little fast
+                                     ///< content passes eq 20 now and then, and its 2 s memory forgot the lag
+                                     ///< of high air content as fast as it came. false: as before stop 48
   double decide_alpha = 0.25;  ///< bank: best models from this alpha are fault decisions (the classifier's
                                ///< alpha_detect; set by the loader)
   std::vector<Signature> signatures = table1_signatures();  ///< bank paths ([0] healthy)
@@ -107,9 +112,15 @@ class Identifier {
   /// bank_pe_gate), settled, and for a bank fault decision (best alpha >= decide_alpha) evidence() >=
   /// evidence_min.
   bool decisive() const;
+  /// Bank: not decisive() but a fault decision on the residuals remembered in information
+  /// (information_evidence, while the window carried less than information_ref).
+  bool decisive_by_information() const;
   /// Bank: (V_healthy - V_best) / sigma^2, sigma^2 = V_best / W the best model's mean square residual: the
   /// log-likelihood ratio of the best model against the healthy actuator. Other methods: 0.
   double evidence() const;
+  /// Bank: evidence() on the residuals remembered in information (information_evidence), for the 2 s bank's
+  /// best model; 0 when off.
+  double information_evidence() const;
   /// Bank: (V_signature - V_best) / sigma^2, the evidence against the signature (alpha 1) of fault path
   /// `path` (0-based, signatures[path + 1]) in favour of the best model. Other methods: infinite.
   double evidence_against_signature(int path) const;
@@ -174,6 +185,8 @@ class Identifier {
   // Bank: structure of arrays (vectorised over the models).
   Eigen::ArrayXd ba1_, ba2_, bb1_, bb2_, bx1_, bx2_, bV_;
   double bW_ = 0.0;             // sum of the forgetting weights of bV_ (its sample count)
+  Eigen::ArrayXd bVi_;          // bV_ remembered in information always (information_evidence)
+  double bWi_ = 0.0;            // its weights' sum
   double info_mean_ = 0.0;      // windowed mean square healthy-to-nearest-signature output difference (deg^2)
   bool info_excited_ = false;   // info_mean_ >= information_min (bank)
   double info_weight_ = 1.0;    // see information_weight()
