@@ -290,9 +290,10 @@ TEST(ThirdTurbine, EveryServiceRunsAMediumSpeedTurbineFromItsFileAlone) {
     ASSERT_EQ(p.wait(std::chrono::seconds(120)), 0) << p.stderr_text();
     events[service] = json_lines(read_file(dir + "/" + service + ".jsonl"));
     // THEN sensor_bias says it designed its drive-train gains for this turbine at start
-    if (service == "sensor-bias")
+    if (service == "sensor-bias") {
       EXPECT_NE(p.stderr_text().find("designed from design_drive_train_observer.yaml"), std::string::npos)
           << p.stderr_text();
+    }
   }
   // AND the offset is raised by sensor_bias on the generator speed sensor after its onset, and nothing is
   // raised before it by any service

@@ -654,7 +654,9 @@ TEST(ObserverMode, AStuckSpeedSensorStaysRaisedWhileItsTwinSticksToo) {
   ASSERT_NE(raised, nullptr);
   EXPECT_EQ(raised->fault, "sensor_stuck");
   EXPECT_LE(raised->t, 155.0);
-  if (cleared) EXPECT_GE(cleared->t, 264.0) << cleared->detail;
+  if (cleared) {
+    EXPECT_GE(cleared->t, 264.0) << cleared->detail;
+  }
 }
 
 TEST(ObserverMode, AGainFaultIsSensorGainWithItsGain) {
