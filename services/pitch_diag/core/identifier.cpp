@@ -10,6 +10,21 @@ namespace windfdi::pitch_diag {
 
 namespace {
 constexpr int kPeCheckEvery = 10;  // samples between the eq 20 tests (10 Hz at 100 Hz): a 4x4 Cholesky each
+
+// One sample's squared residuals into a bank's forgetting sums V (per model) and W (their weight); while
+// `bounded`, the evidence for the healthy model (0) against any model is capped at evidence_max sigma^2.
+void remember(Eigen::ArrayXd& V, double& W, const Eigen::ArrayXd& squared, double lambda, double evidence_max,
+              bool bounded) {
+  V = lambda * V + squared;
+  W = lambda * W + 1.0;
+  if (evidence_max > 0.0 && bounded) V = V.min(V(0) + evidence_max * std::max(V.minCoeff() / W, 1e-12));
+}
+
+// (V(model) - V(best)) / sigma^2, sigma^2 = V(best) / W: the log-likelihood ratio of `best` against `model`.
+double log_likelihood_ratio(const Eigen::ArrayXd& V, double W, Eigen::Index model, Eigen::Index best) {
+  const double vb = V(best);
+  return (V(model) - vb) / std::max(vb / W, 1e-12);
+}
 }  // namespace
 
 const char* method_name(Method m) {
@@ -361,21 +376,15 @@ void Identifier::bank_step(double yf, bool settled) {
     // Forgetting in information, not seconds: a slow-swing window carrying a fifth of information_ref forgets
     // a fifth as fast (bank_lambda's 2 s forgot the evidence for high air content as fast as it came).
     const double lambda = 1.0 - (1.0 - cfg_.bank_lambda) * info_weight_;
-    bV_ = lambda * bV_ + (yf - x).square();
-    bW_ = lambda * bW_ + 1.0;
+    const Eigen::ArrayXd squared = (yf - x).square();
     // A memory stretched by a poor window keeps more evidence for the healthy actuator than turbulence's 2 s
     // would; a fault then has to undo it before its own evidence counts. Bounded while the window is poor.
-    if (cfg_.evidence_max > 0.0 && info_weight_ < 1.0)
-      bV_ = bV_.min(bV_(0) + cfg_.evidence_max * std::max(bV_.minCoeff() / bW_, 1e-12));
+    remember(bV_, bW_, squared, lambda, cfg_.evidence_max, info_weight_ < 1.0);
     if (cfg_.information_evidence && cfg_.information_ref > 0.0) {
       // The same residuals on the information clock whether or not eq 20 holds (a turbulent window carries
       // information_ref or more: there the two memories are the same), bounded alike.
       const double w = std::min(1.0, info_mean_ / cfg_.information_ref);
-      const double li = 1.0 - (1.0 - cfg_.bank_lambda) * w;
-      bVi_ = li * bVi_ + (yf - x).square();
-      bWi_ = li * bWi_ + 1.0;
-      if (cfg_.evidence_max > 0.0 && w < 1.0)
-        bVi_ = bVi_.min(bVi_(0) + cfg_.evidence_max * std::max(bVi_.minCoeff() / bWi_, 1e-12));
+      remember(bVi_, bWi_, squared, 1.0 - (1.0 - cfg_.bank_lambda) * w, cfg_.evidence_max, w < 1.0);
     }
     ++updates_;
   }
@@ -420,36 +429,38 @@ Theta Identifier::theta() const {
   return theta_from_continuous(wn, z, cfg_.T);
 }
 
+bool Identifier::bank_ready() const {
+  return updates_ > 0 && !(cfg_.bank_pe_gate && !excited()) && since_restart_ >= settle_samples_;
+}
+
+bool Identifier::best_is_fault() const {
+  Eigen::Index best;
+  bV_.minCoeff(&best);
+  return bpath_[best] >= 0 && balpha_[best] >= cfg_.decide_alpha - 1e-9;
+}
+
 bool Identifier::decisive() const {
   if (updates_ == 0) return false;
   if (cfg_.method != Method::kBank) return excited_;
-  if (cfg_.bank_pe_gate && !excited()) return false;
-  if (since_restart_ < settle_samples_) return false;
+  if (!bank_ready()) return false;
   if (cfg_.evidence_min <= 0.0) return true;
   // A fault decision needs the data to reject the healthy actuator; "none" needs no more than eq 20.
-  Eigen::Index best;
-  bV_.minCoeff(&best);
-  const bool fault = bpath_[best] >= 0 && balpha_[best] >= cfg_.decide_alpha - 1e-9;
-  return !fault || evidence() >= cfg_.evidence_min;
+  return !best_is_fault() || evidence() >= cfg_.evidence_min;
 }
 
 bool Identifier::decisive_by_information() const {
   if (cfg_.method != Method::kBank || !cfg_.information_evidence || cfg_.evidence_min <= 0.0) return false;
-  if (updates_ == 0 || (cfg_.bank_pe_gate && !excited()) || since_restart_ < settle_samples_) return false;
+  if (!bank_ready()) return false;
   // Where the window carried information_ref or more the two memories are the same.
   if (!(cfg_.information_ref > 0.0 && info_mean_ < cfg_.information_ref)) return false;
-  Eigen::Index best;
-  bV_.minCoeff(&best);
-  const bool fault = bpath_[best] >= 0 && balpha_[best] >= cfg_.decide_alpha - 1e-9;
-  return fault && information_evidence() >= cfg_.evidence_min;
+  return best_is_fault() && information_evidence() >= cfg_.evidence_min;
 }
 
 double Identifier::information_evidence() const {
   if (cfg_.method != Method::kBank || bWi_ <= 0.0) return 0.0;
   Eigen::Index best;
   bV_.minCoeff(&best);
-  const double vb = bVi_(best);
-  return (bVi_(0) - vb) / std::max(vb / bWi_, 1e-12);
+  return log_likelihood_ratio(bVi_, bWi_, 0, best);
 }
 
 double Identifier::evidence() const {
@@ -467,8 +478,9 @@ double Identifier::evidence_against_signature(int path) const {
 
 double Identifier::evidence_against(Eigen::Index model) const {
   if (bW_ <= 0.0) return 0.0;
-  const double vb = bV_.minCoeff();
-  return (bV_(model) - vb) / std::max(vb / bW_, 1e-12);
+  Eigen::Index best;
+  bV_.minCoeff(&best);
+  return log_likelihood_ratio(bV_, bW_, model, best);
 }
 
 double Identifier::excitation() const {

@@ -135,6 +135,10 @@ class Identifier {
   void bank_step(double yf, bool settled);
   /// Bank: (V_model - V_best) / sigma^2, sigma^2 = V_best / W; 0 before any residual.
   double evidence_against(Eigen::Index model) const;
+  // Bank: settled, updated and (with bank_pe_gate) excited: a decision may be taken at all.
+  bool bank_ready() const;
+  // Bank: the 2 s memory's best model is a fault decision (a fault path at decide_alpha or more).
+  bool best_is_fault() const;
 
   IdentifierConfig cfg_;
   Theta theta0_;

@@ -201,8 +201,9 @@ int BladeDiagnoser::path_of(const std::string& fault) const {
 }
 
 void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) {
-  const bool by_information = !id_.decisive() && id_.decisive_by_information();
-  if (!id_.decisive() && !by_information) return;  // held: no decision (the published estimate is the last)
+  const bool decisive = id_.decisive();
+  const bool by_information = !decisive && id_.decisive_by_information();
+  if (!decisive && !by_information) return;  // held: no decision (the published estimate is the last)
   const ContinuousModel model = id_.model();
   if (!model.valid) {
     if (by_information) return;
