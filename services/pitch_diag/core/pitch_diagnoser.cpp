@@ -203,10 +203,12 @@ int BladeDiagnoser::path_of(const std::string& fault) const {
 void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) {
   const bool decisive = id_.decisive();
   const bool by_information = !decisive && id_.decisive_by_information();
+  decided_ = false;
   if (!decisive && !by_information) return;  // held: no decision (the published estimate is the last)
   const ContinuousModel model = id_.model();
   if (!model.valid) {
     if (by_information) return;
+    decided_ = true;
     model_ = model;
     cls_ = Classification{};
     cls_.fits = false;
@@ -218,6 +220,7 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) 
   // decisions (with them a leak ramped in over 30 s was named pump wear 19 s after its onset, judged suite
   // seed 116, medium-speed rotor at 13.8 m/s).
   if (by_information && point.ambiguous) return;
+  decided_ = true;
   model_ = model;
   cls_ = point;
   const auto& sig = cfg_->classifier.signatures;
@@ -445,7 +448,7 @@ bool PitchDiagnoser::update(const FrameSample& s, bool gap, std::vector<FaultEve
       out_.valid[i] = b.model().valid;
       out_.fault_class[i] = c.fault_class;
       out_.alpha[i] = c.alpha;
-      out_.excited[i] = b.identifier().decisive();
+      out_.excited[i] = b.decided();
       out_.ambiguous[i] = c.ambiguous;
       out_.alt_class[i] = c.alt_class;
       out_.alt_alpha[i] = c.alt_alpha;

@@ -94,7 +94,7 @@ struct PitchEstimate {
   std::array<double, kBlades> zeta{};
   std::array<double, kBlades> alpha{};             ///< along the reported class's path, 0 for "none"
   std::array<std::string, kBlades> fault_class{};  ///< "none" or a canonical pitch fault class
-  std::array<bool, kBlades> excited{};             ///< false: estimate held (eq 20 not met, or settling)
+  std::array<bool, kBlades> excited{};             ///< false: estimate held (no decision this tick)
   std::array<bool, kBlades> ambiguous{};           ///< a second fault path explains the dynamics as well
   std::array<std::string, kBlades> alt_class{};    ///< that path ("" when not ambiguous)
   std::array<double, kBlades> alt_alpha{};         ///< its alpha
@@ -127,6 +127,9 @@ class BladeDiagnoser {
   const Classification& classification() const { return cls_; }
   const ContinuousModel& model() const { return model_; }
   const std::string& raised() const { return raised_; }
+  /// True when the last tick took the identified model as this blade's estimate (on either memory's
+  /// evidence); false when it held the one before.
+  bool decided() const { return decided_; }
 
  private:
   void emit(double t, const std::string& fault, bool raised, std::vector<FaultEvent>& events);
@@ -149,6 +152,7 @@ class BladeDiagnoser {
   double shared_reached_after_ = -1.0;  // that excited time when it first reached the pump-wear point
   double half_reached_after_ = -1.0;    // and when it first reached half of shared_alpha
   double settled_at_short_ = 0.0;       // s of excited data since then at the pump-wear point
+  bool decided_ = false;
 };
 
 /// One turbine (three blades): samples in, estimates and events out. No clock, no threads.
