@@ -13,7 +13,7 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
                         "block_time", "test_time", "reference_gap", "reference_time", "efficiency_step",
                         "efficiency_clear_ratio", "efficiency_clear_time", "min_power_share", "max_pitch_wind",
                         "min_generator_speed", "min_generator_speed_share", "max_torque", "max_generator_speed", "max_power",
-                        "sample_time", "iced_inertia_ratio", "context_lookback",
+                        "sample_time", "iced_inertia_ratio", "inertia_ratio_floor", "context_lookback",
                         "max_bridged_gap"});
   // clang-format on
   DiagnoserConfig c;
@@ -52,6 +52,7 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
                    s.get_number("min_generator_speed_share", 0.185, 0.0, 1.0) * turbine.rated_generator_speed,
                    0.0, 1000.0);
   e.iced_inertia_ratio = s.get_number("iced_inertia_ratio", e.iced_inertia_ratio, 1.0, 10.0);
+  e.inertia_ratio_floor = s.get_number("inertia_ratio_floor", e.inertia_ratio_floor, 0.0, 1.0);
   v.min_generator_speed = e.min_generator_speed;
   c.estimate_rate = s.get_number("estimate_rate", c.estimate_rate, 0.01, 100.0);
   c.wind_window = s.get_number("wind_window", c.wind_window, 0.0, 60.0);

@@ -34,6 +34,9 @@ struct EfficiencyConfig {
   double iced_inertia_ratio = 1.05;   ///< the reference blocks' fitted rotor inertia over the clean rotor's
                                       ///< above which the rotor is iced, not the gearbox lossy (healthy fits
                                       ///< 0.94-1.01; 3 t of ice 1.08-1.15)
+  /// The blocks' efficiencies weigh the rotor at least this heavy: ice only adds inertia, and a fit below
+  /// the clean rotor is the anemometer's error (0: the fit as it is).
+  double inertia_ratio_floor = 1.0;
 };
 
 struct EfficiencyState {
@@ -44,6 +47,8 @@ struct EfficiencyState {
   double reference = 0.0;      ///< mean ratio of the reference blocks (frozen while raised)
   double drop = 0.0;           ///< (reference - efficiency) / reference
   double inertia_ratio = 1.0;  ///< rotor inertia fitted on the reference blocks over the clean rotor's
+  double weighed_inertia_ratio =
+      1.0;  ///< the one the blocks' efficiencies use (at least inertia_ratio_floor)
 };
 
 class EfficiencyMonitor {
