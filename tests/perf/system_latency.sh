@@ -37,7 +37,11 @@ for i in range(n):
         print(f"  - {{turbine: T{i+1:03d}, target: blade_moment_3, type: invalid, start: {s:.2f}, end: {s + 2.5:.2f}}}")
         s += period
 EOF
-sed 's/^clear_hold:.*/clear_hold: 1.0/' "$top/deploy/config/arbiter.yaml" > "$work/arbiter.yaml"
+# (The copy's turbine file named absolutely: relative to the work directory it does not exist, and the
+# arbiter, exiting on it, left every run since its turbine file came without a configuration to measure.)
+sed -e 's/^clear_hold:.*/clear_hold: 1.0/' \
+    -e "s|^turbine_file: *\([^ ]*\)|turbine_file: $top/deploy/config/\1|" \
+  "$top/deploy/config/arbiter.yaml" > "$work/arbiter.yaml"
 
 # Every process writes its hop time stamps (common/hop_trace.hpp) for the hop-by-hop table at the end.
 export WINDFDI_TRACE="$work/trace"
@@ -49,6 +53,12 @@ pids+=($meter_pid)
 for _ in $(seq 600); do grep -q READY "$work/meter.out" && break; kill -0 $meter_pid 2>/dev/null || break; sleep 0.1; done
 grep -q READY "$work/meter.out" || { cat "$work/meter.out" "$work/meter.err" >&2; echo "system_latency: meter not ready" >&2; exit 1; }
 sleep 2  # every reader matched before the first frame
+for p in "${pids[@]}"; do
+  kill -0 "$p" 2>/dev/null && continue
+  tail -n 5 "$work"/*.log >&2
+  echo "system_latency: a process ended before the plant started (its log above)" >&2
+  exit 1
+done
 "$bin/windfdi-plant" --scenario "$work/scenario.yaml" --rate realtime --block 1 --progress 0 --log-level warn \
   > "$work/plant.log" 2>&1 &
 pids+=($!)
