@@ -43,6 +43,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "confirm_time",
                         "confirm_revolutions",
                         "onset_ratio",
+                        "hold_in_raised_direction",
                         "noise_revolutions",
                         "fast_ratio",
                         "fast_confirm_time",
@@ -127,6 +128,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   d.confirm_time = y.get_number("confirm_time", d.confirm_time, 0.1, 600.0);
   d.confirm_revolutions = y.get_number("confirm_revolutions", d.confirm_revolutions, 0.0, 20.0);
   d.onset_ratio = y.get_number("onset_ratio", d.onset_ratio, 0.1, 1.0);
+  d.hold_in_raised_direction = y.get<bool>("hold_in_raised_direction", d.hold_in_raised_direction);
   l.noise_revolutions = y.get_number("noise_revolutions", l.noise_revolutions, 0.0, 1000.0);
   d.fast_ratio = y.get_number("fast_ratio", d.fast_ratio, 0.0, 100.0);
   if (d.fast_ratio > 0 && d.fast_ratio < 1.0) throw y.error("fast_ratio", "must be 0 (off) or >= 1");

@@ -22,6 +22,9 @@ enum Channel {
 /// One value per blade and residual channel.
 using BladeChannels = std::array<std::array<double, kChannels>, 3>;
 const char* channel_name(int c);
+/// +1 when a value v of channel c says the gauge reads high (above the model or the other gauges), -1 low:
+/// kModel is model minus sensor, every other channel sensor minus its reference.
+inline int reading_direction(int c, double v) { return (c == kModelChannel ? -v : v) > 0 ? 1 : -1; }
 /// Every value NaN (not available).
 BladeChannels unavailable_channels();
 

@@ -330,7 +330,9 @@ void ResidualTests::tick(double t, double revolution_time, const BladeChannels& 
         B.run_sign[c] = sign;
         B.fast_start[c] = -1.0;
       }
-      above_onset = true;
+      if (!c_.hold_in_raised_direction || B.raised.empty() || B.raised_direction == 0 ||
+          reading_direction(c, v) == B.raised_direction)
+        above_onset = true;
       const double r = std::fabs(v) / crit_[c];
       // A large step: far above the critical value for fast_confirm_time confirms before a revolution.
       const bool fast_now = c_.fast_ratio > 0 && r > c_.fast_ratio;
@@ -411,6 +413,9 @@ void ResidualTests::blade_decision(int b, double t, bool outlier, bool outlier_c
     if (x.raised) {
       const int c = by_drift ? B.drift_channel : channel;
       ev.statistic = by_drift ? B.drift_t : stat;
+      // (Renamed intermittent, the episode keeps the direction of its first raise.)
+      if (x.fault != "sensor_intermittent" || B.raised_direction == 0)
+        B.raised_direction = c >= 0 ? reading_direction(c, ev.statistic) : 0;
       ev.threshold = by_drift ? drift_crit_[std::max(c, 0)] : critical;
       ev.size = size;
       if (by_drift && c >= 0) {
@@ -428,6 +433,7 @@ void ResidualTests::blade_decision(int b, double t, bool outlier, bool outlier_c
     events.push_back(ev);
   }
   B.raised = B.episode.raised();
+  if (B.raised.empty()) B.raised_direction = 0;
 }
 
 }  // namespace windfdi::blade_load

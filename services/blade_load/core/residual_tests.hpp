@@ -42,7 +42,11 @@ struct DetectionConfig {
   /// window for exactly one revolution.
   double confirm_revolutions = 1.1;
   double onset_ratio = 0.5;  ///< a run of exceedance starts above this share of the critical value (0.1..1)
-  double fast_ratio = 1.25;  ///< a large step: above this multiple of the critical value (0: off) ...
+  /// A raised fault stays evidenced by a run above the onset level only in the direction it was raised in
+  /// (the gauge reading high or low): after a drift's end a healthy gauge's runs past half the critical value
+  /// the other way, and the wind's either way, kept a drift raised 665 s. false: any run, as before stop 49
+  bool hold_in_raised_direction = true;
+  double fast_ratio = 1.25;        ///< a large step: above this multiple of the critical value (0: off) ...
   double fast_confirm_time = 1.0;  ///< ... continuously for this long (s) raises before confirm_revolutions
   // Isolation: the other blades as witnesses.
   double isolation_ratio = 0.5;  ///< cross-blade channels: the other two blades must agree with each other,
@@ -116,6 +120,7 @@ class ResidualTests {
     int drift_channel = -1;
     int drift_revolutions = 0;  // consecutive revolutions the drift test fired on drift_channel, same sign
     std::string raised;         // class raised, "" none (mirrors the classifier)
+    int raised_direction = 0;   // +1: raised on the gauge reading high, -1: low (0: none, or unknown)
     EpisodeClassifier episode;
   };
 
