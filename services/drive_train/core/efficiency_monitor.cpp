@@ -109,16 +109,14 @@ void EfficiencyMonitor::evaluate() {
   // Raised, the reference is frozen: the newest blocks alone say whether the loss is gone.
   if (blocks_.size() < (state_.raised ? test : test + gap + reference)) return;
   state_.ready = true;
-  if (!state_.raised) {
-    state_.inertia_ratio = fitted_inertia_ratio(test + gap, reference);
-    // A rotor weighs at least what it weighs clean. Below it, the fit took the anemometer's error for
-    // inertia: in light turbulent wind (7.2 m/s, TI 0.16, the medium-speed rotor, judged suite seed 128) the
-    // inertia torque is up to the aerodynamic torque itself, a fit of 0.93 read accelerating blocks 0.93 and
-    // decelerating ones 1.00, and a gust's 30 s of acceleration dropped the efficiency 3.9 % for 25 s.
-    state_.weighed_inertia_ratio = std::max(state_.inertia_ratio, c_.inertia_ratio_floor);
-    state_.reference = ratio(test + gap, reference, state_.weighed_inertia_ratio);
-  }
-  state_.efficiency = ratio(0, test, state_.weighed_inertia_ratio);
+  if (!state_.raised) state_.inertia_ratio = fitted_inertia_ratio(test + gap, reference);
+  // A rotor weighs at least what it weighs clean. Below it, the fit took the anemometer's error for inertia:
+  // in light turbulent wind (7.2 m/s, TI 0.16, the medium-speed rotor, judged suite seed 128) the inertia
+  // torque is up to the aerodynamic torque itself, a fit of 0.93 read accelerating blocks 0.93 and
+  // decelerating ones 1.00, and a gust's 30 s of acceleration dropped the efficiency 3.9 % for 25 s.
+  const double weighed = std::max(state_.inertia_ratio, c_.inertia_ratio_floor);
+  if (!state_.raised) state_.reference = ratio(test + gap, reference, weighed);
+  state_.efficiency = ratio(0, test, weighed);
   state_.drop = (state_.reference - state_.efficiency) / state_.reference;
   if (!state_.raised) {
     // An iced rotor loses Cp too, which the balance cannot tell from a lossy gearbox; its larger inertia it

@@ -47,8 +47,6 @@ struct EfficiencyState {
   double reference = 0.0;      ///< mean ratio of the reference blocks (frozen while raised)
   double drop = 0.0;           ///< (reference - efficiency) / reference
   double inertia_ratio = 1.0;  ///< rotor inertia fitted on the reference blocks over the clean rotor's
-  double weighed_inertia_ratio =
-      1.0;  ///< the one the blocks' efficiencies use (at least inertia_ratio_floor)
 };
 
 class EfficiencyMonitor {
