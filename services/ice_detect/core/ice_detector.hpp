@@ -31,6 +31,9 @@ struct DetectorConfig {
   double critical_margin = 0.2;   ///< the stop level needs an estimate this share above critical_rise: the
                                   ///< estimate's error (1-4 % of inertia) must not stop a rotor below it
   double critical_confirm_time = 60.0;  ///< s of fresh (excited) estimates above it before critical is raised
+  /// Those seconds are weighed by the regression's excitation as the first warning's are (first_excitation),
+  /// with this k: full from k times min_excitation. 1: every fresh second counts fully, as before stop 50
+  double critical_excitation = 2.0;
   double confirm_time = 10.0;  ///< s of fresh estimates, from a half-full median, above a level to raise it
   /// s of them above the warning level before a rotor with no ice reported gets its first report, always the
   /// warning (further levels then take confirm_time each)
@@ -154,6 +157,8 @@ class IceDetector {
   double first_warning_rise() const;
   /// The share of a second this second's estimate counts toward the first warning (first_excitation).
   double first_warning_weight() const;
+  /// The share of a second an estimate at this excitation counts, full from k times min_excitation.
+  double excitation_weight(double k) const;
   struct SlowPoint {
     double t, inertia;
     bool iced;  // ice was reported then at severity fault or above
