@@ -57,6 +57,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "context_hold",
                         "isolation_ratio",
                         "second_fault_model_witness",
+                        "mean_model_witness",
                         "robust_clip",
                         "abrupt_ratio",
                         "abrupt_lookback",
@@ -147,6 +148,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   s.context_hold = y.get_number("context_hold", s.context_hold, 0.0, 3600.0);
   d.isolation_ratio = y.get_number("isolation_ratio", d.isolation_ratio, 0.0, 2.0);
   d.second_fault_model_witness = y.get<bool>("second_fault_model_witness", d.second_fault_model_witness);
+  d.mean_model_witness = y.get<bool>("mean_model_witness", d.mean_model_witness);
   l.robust_clip = y.get_number("robust_clip", l.robust_clip, 1.0, 100.0);
   d.abrupt_ratio = y.get_number("abrupt_ratio", d.abrupt_ratio, 0.0, 1.0);
   d.abrupt_lookback = static_cast<int>(y.get_number("abrupt_lookback", d.abrupt_lookback, 1, 20));

@@ -56,6 +56,11 @@ struct DetectionConfig {
   /// witness is left, and a load change on it reads as this blade's opposite excursion. false: as before
   /// stop 48
   bool second_fault_model_witness = true;
+  /// The cross-blade mean-load ratio (kMean, normalised by each blade's LIDAR model) raises nothing while an
+  /// unraised other blade's LIDAR residual is beyond the onset level: the model does not explain the wind on
+  /// that blade, and its mean is as wrong (a failed gauge moves only its own blade's residuals). false: as
+  /// before stop 50
+  bool mean_model_witness = true;
   /// kConfirm: the LIDAR residual counts only if the cross-blade model residual agrees (sign and
   /// witness_significance); kSensors: and the gauges' own cross-blade amplitude is beyond the same test's
   /// critical value, in the same direction; kOff: the paper's LIDAR residual alone.
