@@ -127,7 +127,9 @@ TEST_F(DdsFrames, ABusyWriterSurvivesFilteredReadersComingAndGoing) {
   // GIVEN a writer of estimates for three turbines that writes as fast as it can (Fast DDS 2.9 evaluated
   // remote readers' filters in write() unlocked against their arrival and departure: such a writer crashed)
   const auto env = dds_env(domain);
-  const auto flood_process = start_flood("120");
+  // (it stays alive longer than the churn may take, 200 s below: with a 120 s hold it left on its own while a
+  // loaded CI machine's churn was at 123 s, which read as a crash)
+  const auto flood_process = start_flood("300");
   ASSERT_TRUE(flood_process);
   ChildProcess& flood = *flood_process;
 
