@@ -58,10 +58,12 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "isolation_ratio",
                         "second_fault_model_witness",
                         "mean_model_witness",
+                        "mean_model_witness_ratio",
                         "robust_clip",
                         "abrupt_ratio",
                         "abrupt_lookback",
                         "abrupt_span",
+                        "ramp_revolutions",
                         "held_step_share",
                         "return_time",
                         "intermittent_window",
@@ -149,10 +151,13 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   d.isolation_ratio = y.get_number("isolation_ratio", d.isolation_ratio, 0.0, 2.0);
   d.second_fault_model_witness = y.get<bool>("second_fault_model_witness", d.second_fault_model_witness);
   d.mean_model_witness = y.get<bool>("mean_model_witness", d.mean_model_witness);
+  d.mean_model_witness_ratio =
+      y.get_number("mean_model_witness_ratio", d.mean_model_witness_ratio, 0.0, 10.0);
   l.robust_clip = y.get_number("robust_clip", l.robust_clip, 1.0, 100.0);
   d.abrupt_ratio = y.get_number("abrupt_ratio", d.abrupt_ratio, 0.0, 1.0);
   d.abrupt_lookback = static_cast<int>(y.get_number("abrupt_lookback", d.abrupt_lookback, 1, 20));
   d.abrupt_span = static_cast<int>(y.get_number("abrupt_span", d.abrupt_span, 1, 10));
+  d.ramp_revolutions = static_cast<int>(y.get_number("ramp_revolutions", d.ramp_revolutions, 0, 10));
   d.held_step_share = y.get_number("held_step_share", d.held_step_share, 0.0, 1.0);
   EpisodeConfig& e = c.episode;
   e.return_time = y.get_number("return_time", e.return_time, 0.1, 3600.0);
