@@ -11,7 +11,7 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
   s.require_known_keys({"turbine_file", "estimate_rate", "wind_window", "min_offset", "cusum_threshold",
                         "noise_learn_time", "noise_floor", "witness_ratio", "offset_clear_time",
                         "block_time", "test_time", "reference_gap", "reference_time", "efficiency_step",
-                        "efficiency_clear_ratio", "efficiency_clear_time", "min_power_share", "max_pitch_wind",
+                        "efficiency_clear_ratio", "efficiency_clear_time", "efficiency_confirm_time", "min_power_share", "max_pitch_wind",
                         "min_generator_speed", "min_generator_speed_share", "max_torque", "max_generator_speed", "max_power",
                         "sample_time", "iced_inertia_ratio", "inertia_ratio_floor", "context_lookback",
                         "max_bridged_gap"});
@@ -42,6 +42,7 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
   e.step = s.get_number("efficiency_step", e.step, 0.001, 0.5);
   e.clear_ratio = s.get_number("efficiency_clear_ratio", e.clear_ratio, 0.0, 1.0);
   e.clear_time = s.get_number("efficiency_clear_time", e.clear_time, 0.0, 3600.0);
+  e.confirm_time = s.get_number("efficiency_confirm_time", e.confirm_time, 0.0, 600.0);
   e.min_power_share = s.get_number("min_power_share", e.min_power_share, 0.0, 1.0);
   c.max_pitch_wind = s.get_number("max_pitch_wind", c.max_pitch_wind, 3.0, 60.0);
   e.max_pitch = feathering_pitch(turbine, c.max_pitch_wind);

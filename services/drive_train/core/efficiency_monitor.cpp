@@ -16,7 +16,10 @@ const EfficiencyState& EfficiencyMonitor::update(double tg, double wg, double ae
                                                  bool usable, bool forget, std::size_t lost) {
   t_ += dt_ * static_cast<double>(1 + lost);
   state_.changed = false;
-  if (forget) blocks_.clear();
+  if (forget) {
+    blocks_.clear();
+    drop_since_ = -1.0;
+  }
   const bool ok = usable && std::isfinite(tg) && std::isfinite(wg) && std::isfinite(aero_power) &&
                   std::isfinite(pitch) && wg > c_.min_generator_speed;
   if (!ok) {
@@ -46,6 +49,7 @@ void EfficiencyMonitor::reset_block() {
 
 void EfficiencyMonitor::discard_recent(double seconds) {
   reset_block();
+  drop_since_ = -1.0;  // the drop was read on the blocks discarded
   for (double s = 0.0; s < seconds - 1e-9 && !blocks_.empty(); s += c_.block_time) blocks_.pop_back();
 }
 
@@ -121,7 +125,16 @@ void EfficiencyMonitor::evaluate() {
   if (!state_.raised) {
     // An iced rotor loses Cp too, which the balance cannot tell from a lossy gearbox; its larger inertia it
     // can: no efficiency_loss while the reference blocks weigh the rotor heavier than iced_inertia_ratio.
-    if (state_.drop > c_.step && state_.inertia_ratio <= c_.iced_inertia_ratio) {
+    // A drop must hold for confirm_time: a generator-speed sensor's step puts its whole size into one block's
+    // speed change (suite seeds 143-148: 10 efficiency reports 1-2 s after a generator-speed bias or gain,
+    // before sensor_bias's report discarded the blocks; one sent the turbine to degraded mode for 4 s).
+    const bool dropped = state_.drop > c_.step && state_.inertia_ratio <= c_.iced_inertia_ratio;
+    if (!dropped) {
+      drop_since_ = -1.0;
+    } else if (drop_since_ < 0.0) {
+      drop_since_ = t_;
+    }
+    if (dropped && t_ - drop_since_ >= c_.confirm_time - 1e-9) {
       state_.raised = true;
       state_.changed = true;
       good_since_ = -1.0;

@@ -25,6 +25,9 @@ struct EfficiencyConfig {
                                       ///< at most 2.7 %/min in the suite) moves the reference along
   double step = 0.035;                ///< relative drop of the ratio below the reference that is raised (the
                                       ///< benchmark's 0.97 -> 0.92 is 5.2 %)
+  double confirm_time = 5.0;          ///< s the drop must stay above `step` before it is raised (0: at once):
+                                      ///< a speed sensor's step corrupts one block's speed change, and its
+                                      ///< report, which discards the recent blocks, comes 1-3 s later
   double clear_ratio = 0.5;           ///< clears when the drop is below this share of `step` ...
   double clear_time = 30.0;           ///< ... for this long (s)
   double min_power_share = 0.05;      ///< a block below this share of rated aerodynamic power is not used
@@ -85,7 +88,7 @@ class EfficiencyMonitor {
   std::deque<double> last_speeds_;
   std::size_t lost_in_block_ = 0;  // samples lost within the block in progress (its span counts them)
   std::deque<Block> blocks_;       // newest last
-  double t_ = 0.0, good_since_ = -1.0;
+  double t_ = 0.0, good_since_ = -1.0, drop_since_ = -1.0;
   EfficiencyState state_;
 };
 

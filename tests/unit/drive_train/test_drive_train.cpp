@@ -324,6 +324,7 @@ TEST(DriveTrainDiagnoser, ShippedConfigurationIsTheDefaults) {
   EXPECT_EQ(c.converter.clear_time, d.converter.clear_time);
   EXPECT_EQ(c.efficiency.step, d.efficiency.step);
   EXPECT_EQ(c.efficiency.iced_inertia_ratio, d.efficiency.iced_inertia_ratio);
+  EXPECT_EQ(c.efficiency.confirm_time, d.efficiency.confirm_time);
   EXPECT_EQ(c.converter.time_constant, shipped().turbine.converter_time_constant);
   EXPECT_EQ(c.efficiency.rotor_friction, shipped().turbine.rotor_friction);
 }
@@ -663,6 +664,38 @@ TEST(DriveTrainDiagnoser, ASuspectGeneratorSpeedForgetsTheBalanceAndLeavesTheTor
   EXPECT_NEAR(r.converter.offset, 100.0, 15.0);
   EXPECT_EQ(r.converter.witness_offset, 0.0);
   EXPECT_EQ(first(r, "efficiency_loss", 0.0), nullptr) << describe(r);
+}
+
+TEST(DriveTrainDiagnoser, AGeneratorSpeedStepReportedSecondsLaterIsNoEfficiencyLoss) {
+  // GIVEN the plant at 6.3 m/s, turbulence 0.157, whose generator-speed sensor reads 6.44 rad/s low from a
+  // step (fault suite seeds 145 and 146: 8.1 m/s, scenario 04, WT01, a drop of 6.96 % raised 2 s after such a
+  // step, and 6.3 m/s, scenario 02, WT01, 80 % after a gain), reported suspect by sensor_bias 3.5 s later (it
+  // took 1.4-4.4 s in the suite), the step at three times within a 5 s balance block, two seeds. In light
+  // wind the step's apparent deceleration times the rotor's inertia is as large as the aerodynamic torque
+  const auto run = [](double confirm_time, double step, uint64_t seed) {
+    DiagnoserConfig c = shipped().config;
+    c.efficiency.confirm_time = confirm_time;
+    InputContext suspect;
+    suspect.generator_speed_suspect = true;
+    const Hook report = [&](FrameSample& s, DriveTrainDiagnoser& d) {
+      if (std::fabs(s.t - (step + 3.5)) < 0.5 * kDt) d.set_context(suspect, s.t);
+    };
+    const auto bias = plant::FaultSpec::make("WT01", "generator_speed", "bias", step).with_value(-6.44);
+    const auto r = run_turbine(shipped().turbine, c, 6.3, 0.157, step + 60.0, {bias}, seed, 0.0, report);
+    return first(r, "efficiency_loss", 0.0) != nullptr;
+  };
+  int raised_at_once = 0, raised_confirmed = 0;
+  for (const double step : {301.0, 302.5, 304.0})
+    for (const uint64_t seed : {143u, 144u}) {
+      raised_at_once += run(0.0, step, seed);
+      raised_confirmed += run(shipped().config.efficiency.confirm_time, step, seed);
+    }
+  std::printf("[measured] efficiency_loss on a generator-speed step: %d of 6 at once, %d of 6 confirmed\n",
+              raised_at_once, raised_confirmed);
+  // WHEN a drop is raised at the first block that shows it, THEN the step's block raised efficiency_loss
+  ASSERT_GT(raised_at_once, 0) << "the step no longer reads as a loss: this test no longer tests";
+  // WHEN the drop must hold efficiency_confirm_time (5 s), THEN the report discards the block first
+  EXPECT_EQ(raised_confirmed, 0);
 }
 
 TEST(DriveTrainDiagnoser, MalformedConfigurationIsAConfigErrorNamingTheKey) {
