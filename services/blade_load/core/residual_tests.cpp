@@ -328,9 +328,9 @@ void ResidualTests::tick(double t, double revolution_time, const BladeChannels& 
         if (exceeds) exceeds = second_fault_witnessed(tv, b, crit_[kModelChannel], lidar_ok);
         // The mean ratio is each gauge's mean over its blade's LIDAR model: where the model misses the wind
         // on another blade (an eddy the two beams did not see), it misses this blade's mean as well. Healthy
-        // rotors at 16-17.4 m/s, turbulence 0.144-0.153: another blade's LIDAR residual at 12-14 t (the onset
+        // rotors at 12-17.4 m/s, turbulence 0.144-0.159: another blade's LIDAR residual at 6-18 t (the onset
         // is 3.4) while this blade's mean ratio passed the critical value for a second (fresh suite seeds
-        // 133, 134).
+        // 133, 134, 142).
         if (exceeds && c == kMeanChannel && c_.mean_model_witness &&
             other_model_residual_beyond(tv, b, c_.mean_model_witness_ratio * crit_[kModelChannel], true))
           exceeds = false;
