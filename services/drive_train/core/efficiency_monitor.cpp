@@ -135,6 +135,7 @@ void EfficiencyMonitor::evaluate() {
       drop_since_ = t_;
     }
     if (dropped && t_ - drop_since_ >= c_.confirm_time - 1e-9) {
+      drop_since_ = -1.0;  // a later drop, after this one clears, is confirmed afresh
       state_.raised = true;
       state_.changed = true;
       good_since_ = -1.0;
