@@ -254,14 +254,15 @@ TEST(SecondTurbine, IceOnTheExample2MWTurbineIsJudgedByItsOwnInertia) {
               events[0]["t"].get<double>() - 400.0, events[0]["detail"].get<std::string>().c_str());
   // AND the clean inertia it judges by is this rotor's (J_r / N^2 + J_g = 1496 kg m^2)
   EXPECT_NE(events[0]["detail"].get<std::string>().find("vs clean 1496"), std::string::npos);
-  // AND the shedding at 1200 s, which gives back no Cp, is seen by the inertia alone within 2 minutes (the
-  // reported estimate follows the drop down, which no longer ends its confirmation)
+  // AND the shedding at 1200 s, which gives back no Cp, is seen by the inertia alone within 3 minutes (155 s:
+  // at 9 m/s the anemometer's noise makes a minute of balances uncertain by about 2 % of J0; stop 51's
+  // reported-estimate route raised it within 2 minutes, and 9 false sheddings in 9 hours of ice that stayed)
   const json* shed = nullptr;
   for (const auto& e : events)
     if (e["fault"] == "ice_shedding" && e["state"] == "raised" && !shed) shed = &e;
   ASSERT_NE(shed, nullptr) << read_file(dir + "/events.jsonl");
   EXPECT_GT((*shed)["t"].get<double>(), 1200.0);
-  EXPECT_LT((*shed)["t"].get<double>(), 1320.0) << shed->dump();
+  EXPECT_LT((*shed)["t"].get<double>(), 1380.0) << shed->dump();
   std::printf("[ measured ] 2 MW shedding (inertia alone) raised %.0f s after it\n",
               (*shed)["t"].get<double>() - 1200.0);
 }

@@ -2,7 +2,7 @@
 // loss on the two-mass plant in turbulent wind (12 %), fed sample by sample as the service feeds it: false
 // alarms in healthy hours, delay and size of a 100 N m torque offset, delay and estimate of a 0.97 -> 0.92
 // efficiency. Usage: drive_train_plant [healthy_hours_per_wind=10] [seeds=3] [--config FILE] [--turbine FILE]
-// [--events]
+// [--events] [--seed-offset N]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +23,7 @@ namespace {
 constexpr double kDt = 0.01;  // s, 100 Hz
 const double kWinds[] = {8.0, 12.0, 16.0, 20.0};
 bool print_events = false;  // --events: every run's events
+uint64_t seed_offset = 0;   // --seed-offset: added to every run's seed
 
 struct Run {
   std::vector<FaultEvent> events;
@@ -35,7 +36,7 @@ Run run(const DiagnoserConfig& cfg, const TurbineParams& p, double wind, double 
   t.id = "WT01";
   t.wind.mean = wind;
   t.wind.turbulence_intensity = 0.12;
-  plant::TurbineSim sim(p, t, faults, seed, 1.0 / kDt);
+  plant::TurbineSim sim(p, t, faults, seed + seed_offset, 1.0 / kDt);
   const AeroModel aero(p);
   DriveTrainDiagnoser d(cfg, aero);
   Run r;
@@ -92,6 +93,7 @@ int main(int argc, char** argv) {
   const double hours = args.first;
   const int seeds = args.seeds;
   print_events = args.print_events;
+  seed_offset = args.seed_offset;
   const TurbineParams p = args.turbine();
   const DiagnoserConfig cfg = load_diagnoser_config(args.config(), p);
 
@@ -124,7 +126,7 @@ int main(int argc, char** argv) {
     int offset_missed = 0, eff_missed = 0, offset_early = 0, eff_early = 0;
     for (int s = 0; s < seeds; ++s) {
       const uint64_t seed = 2000 + 100 * static_cast<uint64_t>(wind) + static_cast<uint64_t>(s);
-      std::mt19937_64 rng(seed);
+      std::mt19937_64 rng(seed + seed_offset);
       const double onset = std::round(std::uniform_real_distribution<double>(120.0, 600.0)(rng) / kDt) * kDt;
       const auto f = plant::FaultSpec::make("WT01", "converter", "torque_offset", onset).with_value(100.0);
       const Run r = run(cfg, p, wind, onset + 30.0, {f}, seed);

@@ -1,7 +1,8 @@
 // Measures windfdi-ice-detect against its targets on the two-mass plant in turbulent wind, with the
 // aerodynamic power from the turbine model on the noisy anemometer (the DDS path): inertia error after
 // convergence, delay to flag a 5 % inertia increase and a 3 % shedding step, false alarms in healthy hours.
-// Usage: ice_detect_plant [healthy_seconds=3600] [seeds=3] [--config FILE] [--turbine FILE] [--events];
+// Usage: ice_detect_plant [healthy_seconds=3600] [seeds=3] [--config FILE] [--turbine FILE] [--events]
+// [--seed-offset N];
 // AERO_POWER=1 takes the plant's aerodynamic power column instead of the model on the noisy anemometer.
 #include <algorithm>
 #include <cmath>
@@ -20,6 +21,7 @@ using namespace windfdi::ice_detect;
 namespace {
 
 bool print_events = false;  // --events: every run's events, for a look at what went wrong
+uint64_t seed_offset = 0;   // --seed-offset: added to every run's seed
 
 struct Run {
   double rms = 0, max = 0;     // relative inertia error after `settled` s
@@ -37,7 +39,7 @@ Run run(const DetectorConfig& cfg, const TurbineParams& p, double wind, double s
   t.wind.turbulence_intensity = 0.12;
   t.wind.shear_variation = 0.05;
   t.ice_mass = ice;
-  plant::TurbineSim sim(p, t, faults, seed, 100.0);
+  plant::TurbineSim sim(p, t, faults, seed + seed_offset, 100.0);
   IceDetector det(cfg, p);
   AeroPowerInput aero_power(aero, cfg.wind_window, cfg.estimator.sample_time);
   Run r;
@@ -101,6 +103,7 @@ int main(int argc, char** argv) {
   const double healthy_seconds = args.first;
   const int seeds = args.seeds;
   print_events = args.print_events;
+  seed_offset = args.seed_offset;
   const TurbineParams p = args.turbine();
   const DetectorConfig cfg = load_detector_config(args.config(), p);
   const double j0 = p.lumped_inertia();
@@ -109,8 +112,9 @@ int main(int argc, char** argv) {
 
   std::printf(
       "ice_detect on the two-mass plant (%s), 12 %% turbulence, benchmark noise, P from the model on the "
-      "anemometer; %d seeds\n\n",
-      args.turbine_file.empty() ? "benchmark 4.8 MW turbine" : args.turbine_file.c_str(), seeds);
+      "anemometer; %d seeds (offset %llu)\n\n",
+      args.turbine_file.empty() ? "benchmark 4.8 MW turbine" : args.turbine_file.c_str(), seeds,
+      static_cast<unsigned long long>(seed_offset));
   std::printf("| wind m/s | inertia rms error after 600 s | worst |\n|---|---|---|\n");
   for (double wind : {8.0, 12.0, 16.0, 20.0}) {
     double rms = 0, worst = 0;

@@ -1,5 +1,5 @@
 // The command line of the plant measurement programs: [FIRST [SEEDS]] [--config FILE] [--turbine FILE]
-// [--events].
+// [--events] [--seed-offset N].
 #pragma once
 
 #include <cstdlib>
@@ -16,6 +16,8 @@ struct PlantMeasurementArgs {
   std::string config_file;    ///< the service configuration; empty: every key at its default
   std::string turbine_file;   ///< the plant's and the service's turbine; empty: the benchmark 4.8 MW turbine
   bool print_events = false;  ///< every run's events, for a look at what went wrong
+  /// Added to every random seed: runs no setting was tuned on (0: the runs the defaults were tuned with).
+  uint64_t seed_offset = 0;
 
   /// The turbine the plant simulates and the service is configured for.
   TurbineParams turbine() const {
@@ -41,6 +43,8 @@ inline PlantMeasurementArgs parse_plant_measurement_args(int argc, char** argv, 
       a.turbine_file = argv[++i];
     } else if (arg == "--events") {
       a.print_events = true;
+    } else if (arg == "--seed-offset" && i + 1 < argc) {
+      a.seed_offset = std::strtoull(argv[++i], nullptr, 10);
     } else if (positional++ == 0) {
       a.first = std::atof(arg.c_str());
     } else {

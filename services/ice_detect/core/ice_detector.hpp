@@ -8,6 +8,7 @@
 
 #include "fault_event.hpp"
 #include "frame_sample.hpp"
+#include "inertia_drop_test.hpp"
 #include "inertia_estimator.hpp"
 #include "input_context.hpp"
 #include "turbine_params.hpp"
@@ -55,30 +56,13 @@ struct DetectorConfig {
   double shed_power_step =
       0.01;                   ///< rise of the power model's calibration in one step that is shedding (0: off)
   double ice_cp_loss = 0.02;  ///< share of Cp an iced rotor loses per tonne (sizes a shedding from its Cp)
-  double shed_window = 45.0;  ///< s, window of the fast estimator that watches for shedding
-  double shed_reinit = 10.0;  ///< s between its initialisation events
-  double shed_min_excitation =
-      0.5;                     ///< rad/s, excitation the fast estimator needs (its estimates are noisier)
-  double shed_median = 15;     ///< 1 Hz fast estimates in its running median
-  double shed_confirm = 45.0;  ///< s the drop must hold
-  double shed_confirm_min =
-      15.0;  ///< s a drop of shed_confirm / shed_confirm_min times its threshold must hold
-  double shed_fraction =
-      0.05;  ///< drop of the fast estimate below the slow one, share of J0, for ice_shedding
-  double shed_sigmas =
-      4.0;  ///< a fast estimate quiet enough lowers that drop to this many of its learned standard
-            ///< deviations about the reported one (never raises it; 0: shed_fraction always)
-  double shed_fraction_min = 0.025;  ///< the lowered drop is never below this share of J0
-  double shed_slow_sigmas = 0.0;     ///< the slow route's fall needs this many of the same deviations, and at
-                                     ///< least shed_fraction (0: shed_fraction alone)
-  double shed_noise_time = 1800.0;   ///< s, memory of that learned deviation; used after a third of it
-  double shed_min_rise = 0.0137;     ///< inertia rise (500 kg on the benchmark rotor) that must be estimated,
-                                     ///< with ice_accretion raised, to shed
-  double shed_hold = 60.0;           ///< s an ice_shedding report stays raised
-  double shed_slow_window =
-      300.0;  ///< s: the reported estimate itself fell shed_fraction of J0 below its highest fresh value
-              ///< within this, from reported ice: ice_shedding (the rotor whose ice changes no Cp, whose fast
-              ///< estimate is too noisy to see it; later, but before the accretion clears). 0: off
+  DropTestConfig drop_test;   ///< the inertia's own witness of a shedding (reference and windows)
+  double shed_sigmas = 4.0;  ///< the fall of the inertia over its learned standard deviation that is shedding
+  double shed_confirm = 5.0;      ///< s (tested seconds in a row) the fall must stand out
+  double shed_min_drop = 0.025;   ///< share of J0: a smaller fall is no shedding however clear
+  double shed_min_rise = 0.0137;  ///< inertia rise (500 kg on the benchmark rotor) that must be estimated,
+                                  ///< with ice_accretion raised, to shed
+  double shed_hold = 60.0;        ///< s an ice_shedding report stays raised
   double min_generator_speed = 30.0;  ///< rad/s below which the estimator is not fed (standstill)
   double min_gen_torque = 3000.0;     ///< N m; below it the turbine is not producing (stopping): not fed
   /// m/s; samples pitched beyond what the turbine needs for rated power at rated speed in this wind
@@ -124,10 +108,7 @@ class IceDetector {
   uint64_t suspect_samples() const { return suspect_samples_; }
   void set_context(const InputContext& context) { context_ = context; }
   const InertiaEstimator& estimator() const { return estimator_; }
-  /// The drop (share of J0) the fast shedding route needs now: shed_sigmas learned deviations of the fast
-  /// estimate about the reported one, between shed_fraction_min and shed_fraction (shed_fraction until
-  /// learned).
-  double shed_threshold() const;
+  const InertiaDropTest& drop_test() const { return drop_test_; }
 
  private:
   void second(double t, std::vector<FaultEvent>& events);
@@ -137,20 +118,16 @@ class IceDetector {
   double mass_per_inertia_;  // kg of ice per kg m^2 of generator-side inertia
   /// kg of ice that raises the clean inertia by `rise` (a share of J0).
   double ice_mass_at(double rise) const { return rise * j0_ * mass_per_inertia_; }
-  InertiaEstimator estimator_;  // the reported inertia (long window)
-  InertiaEstimator fast_;       // short window: sees a shedding step within a minute
-  std::deque<double> fast_recent_;
-  double shed_since_ = -1.0;
-  double shed_reference_ = 0.0, fast_before_ = 0.0;     // kg m^2: see the drop's reference
-  std::deque<std::pair<double, double>> fast_history_;  // (t, fast estimate) of the last 90 s
-  double fast_deviation_ = 0.0;  // mean |fast - reported| / J0 of quiet seconds (shed_noise_time memory)
-  double fast_learned_ = 0.0;    // s of it
-  /// That deviation as a standard deviation (share of J0; Gaussian: sd = 1.2533 mean absolute deviation).
-  double fast_sd() const { return 1.2533 * fast_deviation_; }
-  /// It is used once a third of shed_noise_time of quiet seconds has been learned.
-  bool noise_learned() const { return fast_learned_ >= cfg_.shed_noise_time / 3.0; }
-  double below_square_ = 0.0;   // mean of min(rise, 0)^2 of fresh estimates while no ice is reported
-  double below_learned_ = 0.0;  // s of it (warning_noise_time memory)
+  InertiaEstimator estimator_;     // the reported inertia (long window)
+  InertiaDropTest drop_test_;      // per-second balances: sees a shedding within a minute or two
+  int shed_confirmed_ = 0;         // tested seconds in a row the fall stood out
+  double shed_first_at_ = -1.0;    // the first of them
+  double scale_before_ = 1.0;      // the power model's calibration a second ago
+  double step_settled_at_ = -1.0;  // the calibration of the aerodynamics after its last step is known then
+  double iced_at_ = -1.0;          // the last second ice was reported (-1: never)
+  std::deque<double> ice_recent_;  // kg of ice reported in each of the last seconds (0: none reported)
+  double below_square_ = 0.0;      // mean of min(rise, 0)^2 of fresh estimates while no ice is reported
+  double below_learned_ = 0.0;     // s of it (warning_noise_time memory)
   /// The clean rotor's estimate's standard deviation (share of J0): twice the lower half's mean square.
   double clean_sd() const { return std::sqrt(2.0 * below_square_); }
   /// The rise the first warning needs.
@@ -159,14 +136,7 @@ class IceDetector {
   double first_warning_weight() const;
   /// The share of a second an estimate at this excitation counts, full from k times min_excitation.
   double excitation_weight(double k) const;
-  struct SlowPoint {
-    double t, inertia;
-    bool iced;  // ice was reported then at severity fault or above
-  };
-  std::deque<SlowPoint> slow_history_;  // fresh reported estimates of the last shed_slow_window
-  double fault_since_ = -1.0;           // time ice was first reported at severity fault (-1: it is not)
-  double slow_since_ = -1.0;            // start of the reported estimate's drop below its peak (-1: none)
-  double calibrated_at_ = -1.0;         // time the power model was first calibrated
+  double calibrated_at_ = -1.0;  // time the power model was first calibrated
   double next_second_ = -1.0;
   bool due_ = false;
   InertiaOutput out_;
@@ -183,8 +153,6 @@ class IceDetector {
   bool fresh_ = false;              // this second's estimate entered the median
   double shed_raised_at_ = -1.0;
   uint64_t power_changes_seen_ = 0;
-  double shed_last_ = -1.0;
-  double fresh_after_shed_ = 0.0;  // fresh seconds from windows wholly after the last shedding
   InputContext context_;
   bool fed_ = false;  // the last sample was fed to the estimators
   struct Fed {
@@ -196,7 +164,7 @@ class IceDetector {
   bool bridge(const FrameSample& s, double power);
   double resumed_at_ = -1e300;  // sample time the estimators were last fed again after a reset
   double speed_mismatch_lp_ = 0.0;
-  uint64_t suspect_samples_ = 0;  // time the last shedding was raised
+  uint64_t suspect_samples_ = 0;
   uint64_t rejected_ = 0;
 };
 
