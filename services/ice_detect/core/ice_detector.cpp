@@ -302,7 +302,7 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   scale_before_ = estimator_.power_scale();
   const bool shedding = shed_confirmed_ > 0 || shed_raised_at_ >= 0.0;
   const bool unsettled = estimator_.power_unsettled() || t < step_settled_at_;
-  const double min_window = cfg_.ice_cp_loss > 0.0 ? cfg_.estimator.power_step_window : 0.0;
+  const double min_window = cfg_.ice_cp_loss > 0.0 ? step_window : 0.0;
   InertiaDropTest::Result drop =
       drop_test_.test(estimator_.power_scale(), j0_, cfg_.shed_min_drop, min_window, !shedding && !unsettled);
   if (unsettled) drop.tested = false;
