@@ -44,6 +44,9 @@ class InertiaDropTest {
   /// The next sample does not follow the last one (a hole, a stop): the second under way is dropped; the
   /// complete ones stay, each is a measurement of its own.
   void restart();
+  /// Forgets every balance (the rotor and the power model may have changed unseen); the learned calibration
+  /// stays.
+  void forget();
   /// Keeps only the newest `seconds` balances (after a shedding, the reference must start after it).
   void keep_newest(std::size_t seconds);
   /// The power model's calibration stepped within the newest `seconds`: those balances are dropped (they mix
@@ -88,7 +91,8 @@ class InertiaDropTest {
   double x_sum_ = 0.0, g_sum_ = 0.0, omega_start_ = 0.0;
   std::size_t samples_ = 0;
   std::deque<Balance> balances_;
-  bool untested_ = false;                              // a balance completed since the last test
+  double elevated_ = 0.0;  // recent share of tested seconds with a fall standing out (learning holds)
+  bool untested_ = false;  // a balance completed since the last test
   std::array<double, kWindows.size()> calibration_{};  // learned mean of drop^2 / predicted variance
   std::array<double, kWindows.size()> learned_{};      // s of it, the prior's included
 };
