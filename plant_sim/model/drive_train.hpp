@@ -1,19 +1,12 @@
-// The turbine's dynamics: the two-mass drive train (Witczak et al. eqs 31-33) and one blade's hydraulic pitch
-// actuator (Witczak et al. eq 34 with the -omega_n^2 beta term it lacks; Wu & Li eqs 11-13 for its faults),
-// each integrated by RK4.
+// The turbine's dynamics: the two-mass drive train (Witczak et al. eqs 31-33), integrated by RK4; each
+// blade's hydraulic pitch actuator is common's PitchActuator (pitch_actuator.hpp), which the services also
+// use.
 #pragma once
 
+#include "pitch_actuator.hpp"
 #include "turbine_params.hpp"
 
 namespace windfdi::plant {
-
-/// beta'' = -2 zeta omega_n beta' - omega_n^2 (beta - beta_ref), rate and angle limited.
-struct PitchActuator {
-  double angle = 0.0;  ///< deg
-  double rate = 0.0;   ///< deg/s
-  void step(double reference, double h, double omega_n, double zeta, double rate_limit, double min_angle,
-            double max_angle);
-};
 
 /// Rotor speed, generator speed (rad/s) and shaft torsion (rad).
 struct DriveTrain {

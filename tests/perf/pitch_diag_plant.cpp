@@ -57,8 +57,8 @@ double first_information(const std::vector<FrameSample>& rec, int blade, double 
                          const Signature& healthy, const Signature& fault) {
   // The plant's own actuator (RK4, with the turbine's rate and angle limits), one per hypothesis.
   const TurbineParams& p = turbine;
-  plant::PitchActuator h, f;
-  auto step = [&](plant::PitchActuator& a, double u, double dt, const Signature& sig) {
+  PitchActuator h, f;
+  auto step = [&](PitchActuator& a, double u, double dt, const Signature& sig) {
     a.step(u, dt, sig.omega_n, sig.zeta, p.pitch_rate_limit, p.pitch_min, p.pitch_max);
   };
   bool started = false;

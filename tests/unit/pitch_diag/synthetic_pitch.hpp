@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "pitch_actuator.hpp"
 #include "pitch_model.hpp"
 
 namespace windfdi::pitch_diag::synth {
@@ -62,26 +64,15 @@ class SyntheticBlade {
     rate_ = rate;
   }
 
-  /// Advances one sampling period with u held (RK4, 10 substeps, rate limit as in the plant).
+  /// Advances one sampling period with u held (the plant's RK4 actuator, 10 substeps, its rate limit and no
+  /// end stops).
   void step(double u, double omega_n, double zeta) {
     const int n = 10;
-    const double h = c_.T / n, w2 = omega_n * omega_n, c2 = 2.0 * zeta * omega_n;
-    for (int k = 0; k < n; ++k) {
-      auto acc = [&](double b, double r) { return -c2 * r - w2 * (b - u); };
-      const double b0 = angle_, r0 = rate_;
-      const double k1b = r0, k1r = acc(b0, r0);
-      const double k2b = r0 + 0.5 * h * k1r, k2r = acc(b0 + 0.5 * h * k1b, k2b);
-      const double k3b = r0 + 0.5 * h * k2r, k3r = acc(b0 + 0.5 * h * k2b, k3b);
-      const double k4b = r0 + h * k3r, k4r = acc(b0 + h * k3b, k4b);
-      double b = b0 + h / 6.0 * (k1b + 2 * k2b + 2 * k3b + k4b);
-      double r = r0 + h / 6.0 * (k1r + 2 * k2r + 2 * k3r + k4r);
-      if (std::fabs(r) > c_.rate_limit) {
-        r = std::clamp(r, -c_.rate_limit, c_.rate_limit);
-        b = b0 + 0.5 * h * (r0 + r);
-      }
-      angle_ = b;
-      rate_ = r;
-    }
+    const double inf = std::numeric_limits<double>::infinity();
+    PitchActuator a{angle_, rate_};
+    for (int k = 0; k < n; ++k) a.step(u, c_.T / n, omega_n, zeta, c_.rate_limit, -inf, inf);
+    angle_ = a.angle;
+    rate_ = a.rate;
   }
 
  private:
