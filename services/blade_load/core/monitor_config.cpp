@@ -54,6 +54,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "lull_memory",
                         "speed_mismatch",
                         "pitch_mismatch",
+                        "pitch_response_mismatch",
                         "context_hold",
                         "isolation_ratio",
                         "second_fault_model_witness",
@@ -147,6 +148,12 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   s.gear_ratio = turbine.gear_ratio;
   s.speed_mismatch = y.get_number("speed_mismatch", s.speed_mismatch, 0.0, 1.0);
   s.pitch_mismatch = y.get_number("pitch_mismatch", s.pitch_mismatch, 0.0, 90.0);
+  s.pitch_response_mismatch = y.get_number("pitch_response_mismatch", s.pitch_response_mismatch, 0.0, 90.0);
+  s.pitch_omega_n = turbine.pitch_omega_n;
+  s.pitch_zeta = turbine.pitch_zeta;
+  s.pitch_rate_limit = turbine.pitch_rate_limit;
+  s.pitch_min = turbine.pitch_min;
+  s.pitch_max = turbine.pitch_max;
   s.context_hold = y.get_number("context_hold", s.context_hold, 0.0, 3600.0);
   d.isolation_ratio = y.get_number("isolation_ratio", d.isolation_ratio, 0.0, 2.0);
   d.second_fault_model_witness = y.get<bool>("second_fault_model_witness", d.second_fault_model_witness);

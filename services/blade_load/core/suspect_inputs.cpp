@@ -20,6 +20,28 @@ bool SuspectInputs::speed_twin(const FrameSample& s, FrameSample& twin) const {
   return true;
 }
 
+double SuspectInputs::response_departure(int b, const FrameSample& s, double a) {
+  const double pitch = s.pitch[b], ref = s.pitch_ref[b];
+  if (!std::isfinite(pitch) || !std::isfinite(ref) || !(s.valid_mask & (kValidPitch1 << b))) {
+    response_started_[b] = false;
+    return 0.0;
+  }
+  if (!response_started_[b]) {
+    // From the reading: a bias there from the start shows once the response has settled on the reference
+    // (about 0.5 s).
+    response_[b] = PitchActuator{pitch, 0.0};
+    response_departure_[b] = 0.0;
+    response_started_[b] = true;
+  }
+  response_departure_[b] += a * (pitch - response_[b].angle - response_departure_[b]);
+  // Sub-steps of at most 2 ms: the plant integrates at 500 Hz, and omega_n h stays below 0.03.
+  const int steps = std::max(1, static_cast<int>(std::ceil(dt_ / 0.002)));
+  for (int k = 0; k < steps; ++k)
+    response_[b].step(ref, dt_ / steps, c_.pitch_omega_n, c_.pitch_zeta, c_.pitch_rate_limit, c_.pitch_min,
+                      c_.pitch_max);
+  return response_departure_[b];
+}
+
 bool SuspectInputs::update(const FrameSample& s) {
   // Redundancy first (no other service needed): the two speed sensors, and each pitch reading against its
   // reference, low-passed over 0.5 s (sensor noise 0.025 rad/s, 0.2 deg).
@@ -41,6 +63,13 @@ bool SuspectInputs::update(const FrameSample& s) {
     pitch_mismatch_lp_[b] += a * (std::fabs(s.pitch[b] - s.pitch_ref[b]) - pitch_mismatch_lp_[b]);
     suspect |= pitch_mismatch_lp_[b] > c_.pitch_mismatch;
   }
+  // The reading against what the healthy actuator makes of its reference: the response is restarted after a
+  // hole (the references in it are unknown).
+  if (last_t_ >= 0.0 && s.t - last_t_ > 1.5 * dt_) response_started_.fill(false);
+  last_t_ = s.t;
+  if (c_.pitch_response_mismatch > 0.0)
+    for (int b = 0; b < 3; ++b)
+      suspect |= std::fabs(response_departure(b, s, a)) > c_.pitch_response_mismatch;
   // Then what the other services and the arbiter say. A fault on one speed sensor is held only through its
   // transient (context_hold after it is raised and after the arbiter's switch to the corrected speed): the
   // model predicts from the measured rotor speed (or its twin) and pitch, whatever speed the controller ran

@@ -10,6 +10,7 @@
 #include <random>
 
 #include "blade_load_monitor.hpp"
+#include "suspect_inputs.hpp"
 #include "turbine_sim.hpp"
 
 using namespace windfdi;
@@ -85,6 +86,35 @@ double run_synthetic(RegressorMode mode, double phase1, uint64_t seed) {
   return std::sqrt(se / std::max(n, 1));
 }
 
+TEST(SuspectInputs, APitchReadingOffItsActuatorsResponseIsSuspectWithinHalfASecond) {
+  // GIVEN a blade whose reference swings 4 deg at 0.5 Hz (a fast IPC-like demand, 12.6 deg/s at its
+  // steepest: the rate limit clips it) and whose reading is the healthy actuator's angle, exactly, until 20
+  // s, then 1 deg high (a biased sensor); the other blades idle at their reference
+  SuspectInputConfig c;
+  c.pitch_mismatch = 0.0;  // the old |reading - reference| test off: this tests the response alone
+  SuspectInputs suspects(c, 0.01);
+  PitchActuator blade{5.0, 0.0};
+  double first_suspect = -1.0, max_healthy = 0.0;
+  for (int k = 0; k < 3000; ++k) {
+    FrameSample s;
+    s.t = 0.01 * k;
+    s.valid_mask = kValidPitch1 | (kValidPitch1 << 1) | (kValidPitch1 << 2);
+    const double ref = 5.0 + 4.0 * std::sin(M_PI * s.t);
+    s.pitch = {blade.angle + (s.t >= 20.0 ? 1.0 : 0.0), 5.0, 5.0};
+    s.pitch_ref = {ref, 5.0, 5.0};
+    const bool suspect = suspects.update(s);
+    if (s.t < 20.0) max_healthy = std::max(max_healthy, std::fabs(suspects.pitch_response_departure(0)));
+    if (suspect && first_suspect < 0.0) first_suspect = s.t;
+    for (int i = 0; i < 5; ++i)  // the plant's 500 Hz
+      blade.step(ref, 0.002, c.pitch_omega_n, c.pitch_zeta, c.pitch_rate_limit, c.pitch_min, c.pitch_max);
+  }
+  // THEN the healthy reading departs from the response by integration error only, rate limit included
+  EXPECT_LT(max_healthy, 1e-3);
+  // AND the 1 deg offset is suspect once its 0.5 s low-pass passes 0.5 deg: ln 2 x 0.5 s = 0.35 s
+  EXPECT_NEAR(first_suspect, 20.35, 0.02);
+  EXPECT_NEAR(suspects.pitch_response_departure(0), 1.0, 0.01);
+}
+
 TEST(MonitorConfig, TheIdlingSpeedAndTheMomentRangeAreTheTurbinesOwn) {
   // GIVEN the shipped configuration and each shipped turbine
   const std::string deploy = WINDFDI_SOURCE_DEPLOY_DIR;
@@ -94,6 +124,13 @@ TEST(MonitorConfig, TheIdlingSpeedAndTheMomentRangeAreTheTurbinesOwn) {
   // tuned on the benchmark rotor would be most of the region 2 of a rotor rated at 7.5 rpm) ...
   EXPECT_NEAR(load_monitor_config(shipped, bench).min_rotor_speed, 0.5, 0.001);
   EXPECT_NEAR(load_monitor_config(shipped, two).min_rotor_speed, 0.659, 0.001);
+  // ... the healthy pitch actuator the readings are judged against is the turbine file's ...
+  TurbineParams slow = bench;
+  slow.pitch_omega_n = 6.0, slow.pitch_rate_limit = 5.0;
+  EXPECT_EQ(load_monitor_config(shipped, slow).suspect_inputs.pitch_omega_n, 6.0);
+  EXPECT_EQ(load_monitor_config(shipped, slow).suspect_inputs.pitch_rate_limit, 5.0);
+  EXPECT_EQ(load_monitor_config(shipped, bench).suspect_inputs.pitch_response_mismatch,
+            SuspectInputConfig{}.pitch_response_mismatch);
   // ... and a blade moment is out of range beyond the rotor's own root moment at a thrust coefficient of 1 in
   // 25 m/s: the 5e7 N m of the benchmark rotor, a third of it on the 2 MW one
   EXPECT_NEAR(load_monitor_config(shipped, bench).validity.max_moment, 5.08e7, 0.01e7);
@@ -211,7 +248,7 @@ struct PlantRun {
   double rms_abs = 0.0;  // N m
   std::vector<FaultEvent> events;
   int adaptations = 0;
-  uint64_t gated_revolutions = 0, lull_revolutions = 0;
+  uint64_t gated_revolutions = 0, lull_revolutions = 0, suspect_samples = 0;
   double max_ratio[kChannels] = {};
 };
 
@@ -262,6 +299,7 @@ PlantRun run_plant(double wind, double ti, double shear, double shear_var, int s
   r.adaptations = m.adaptations();
   r.gated_revolutions = m.gated_revolutions();
   r.lull_revolutions = m.lull_revolutions();
+  r.suspect_samples = m.suspect_samples();
   for (int ch = 0; ch < kChannels; ++ch) r.max_ratio[ch] = m.max_ratio(ch);
   return r;
 }
@@ -1095,11 +1133,13 @@ plant::FaultSpec wt02_fault(const std::string& target, const std::string& type, 
 // boolean keys of the defaults set.
 PlantRun run_medium_wt02(double wind, double ti, double shear, int seconds,
                          const std::vector<plant::FaultSpec>& faults, uint64_t seed,
-                         const std::map<std::string, bool>& keys) {
+                         const std::map<std::string, bool>& keys,
+                         const std::map<std::string, double>& numbers = {}) {
   const std::string deploy = WINDFDI_SOURCE_DEPLOY_DIR;
   const TurbineParams medium = load_turbine_params_file(deploy + "/turbine/example_3MW_medium_speed.yaml");
   auto yaml = YAML::Node(YAML::NodeType::Map);
   for (const auto& [key, value] : keys) yaml[key] = value;
+  for (const auto& [key, value] : numbers) yaml[key] = value;
   const MonitorConfig c = load_monitor_config(YamlSection(yaml, "(test)"), medium);
   return run_plant(wind, ti, shear, 0.03, seconds, faults, seed, c, LoadTable::from_turbine(medium), false,
                    {}, medium, "WT02");
@@ -1115,10 +1155,12 @@ TEST(PlantFaults, WithAGaugeRaisedAnotherBladesPitchSensorBiasIsNoFaultOfTheThir
   bias.value = 2.61;
   bias.has_value = true;
   // (each rule alone removes the third gauge's report: blade 2's own LIDAR residual is beyond the onset
-  // level; the mean-load witness is off here, this tests the second-fault witness)
+  // level; the mean-load witness is off here, this tests the second-fault witness, and so is the pitch
+  // reading's test against its actuator's response, which holds the model from the bias's onset on)
   for (const bool witness : {false, true}) {
     const auto r = run_medium_wt02(16.7, 0.105, 0.174, 420, {gain, bias}, 116006,
-                                   {{"second_fault_model_witness", witness}, {"mean_model_witness", false}});
+                                   {{"second_fault_model_witness", witness}, {"mean_model_witness", false}},
+                                   {{"pitch_response_mismatch", 0.0}});
     bool blade3 = false, other = false;
     for (const auto& e : r.events) {
       std::printf("[measured] witness %d, at %.1f s: %s %s %s (%s)\n", witness, e.t, e.component.c_str(),
@@ -1136,6 +1178,33 @@ TEST(PlantFaults, WithAGaugeRaisedAnotherBladesPitchSensorBiasIsNoFaultOfTheThir
     else
       EXPECT_TRUE(other) << "the second fault no longer reads as the third gauge: this test no longer tests";
   }
+}
+
+TEST(PlantFaults, APitchSensorsBiasIsASuspectInputNotItsBladesGaugeFailing) {
+  // GIVEN the example medium-speed turbine at 16.7 m/s (TI 0.105, shear 0.174) whose pitch sensor 2 reads
+  // 2.61 deg high from 363 s: the actuator follows its reference, so the blade and its load are as before and
+  // only the load model, which takes the pitch reading, is wrong
+  auto bias = wt02_fault("pitch_2", "bias", 363.0, 468.0);
+  bias.value = 2.61;
+  bias.has_value = true;
+  bool gauge[2] = {false, false};
+  uint64_t held[2] = {0, 0};
+  for (const bool response : {false, true}) {
+    const auto r = run_medium_wt02(16.7, 0.105, 0.174, 420, {bias}, 116006, {{"mean_model_witness", false}},
+                                   {{"pitch_response_mismatch", response ? 0.5 : 0.0}});
+    for (const auto& e : r.events) {
+      std::printf("[measured] response test %d, at %.1f s: %s %s %s (%s)\n", response, e.t,
+                  e.component.c_str(), e.fault.c_str(), e.raised ? "raised" : "cleared", e.detail.c_str());
+      gauge[response] = gauge[response] || (e.raised && e.t >= 363.0);
+    }
+    held[response] = r.suspect_samples;
+  }
+  // THEN without the response test the model's error reads as blade 2's gauge failing (as in the suite,
+  // 1-2 s after the onset, before sensor_bias names the pitch sensor) ...
+  EXPECT_TRUE(gauge[0]) << "the bias no longer misleads the model: this test no longer tests";
+  // ... and with it the model is held from the onset on (57 s of the bias at 100 Hz) and nothing is raised
+  EXPECT_FALSE(gauge[1]);
+  EXPECT_GE(held[1], held[0] + 5000u);
 }
 
 TEST(PlantFaults, ADriftThatEndedIsClearedOnceTheGaugeIsQuietInItsDirection) {
