@@ -13,7 +13,7 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
                         "block_time", "test_time", "reference_gap", "reference_time", "efficiency_step",
                         "efficiency_clear_ratio", "efficiency_clear_time", "efficiency_confirm_time", "min_power_share", "max_pitch_wind",
                         "min_generator_speed", "min_generator_speed_share", "max_torque", "max_generator_speed", "max_power",
-                        "sample_time", "iced_inertia_ratio", "inertia_ratio_floor", "context_lookback",
+                        "sample_time", "iced_inertia_ratio", "efficiency_step_shape", "speed_pair_mismatch", "speed_pair_time", "inertia_ratio_floor", "context_lookback",
                         "max_bridged_gap"});
   // clang-format on
   DiagnoserConfig c;
@@ -53,6 +53,9 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
                    s.get_number("min_generator_speed_share", 0.185, 0.0, 1.0) * turbine.rated_generator_speed,
                    0.0, 1000.0);
   e.iced_inertia_ratio = s.get_number("iced_inertia_ratio", e.iced_inertia_ratio, 1.0, 10.0);
+  e.step_shape = s.get<bool>("efficiency_step_shape", e.step_shape);
+  c.speed_pair_mismatch = s.get_number("speed_pair_mismatch", c.speed_pair_mismatch, 0.0, 1.0);
+  c.speed_pair_time = s.get_number("speed_pair_time", c.speed_pair_time, 0.1, 60.0);
   e.inertia_ratio_floor = s.get_number("inertia_ratio_floor", e.inertia_ratio_floor, 0.0, 1.0);
   v.min_generator_speed = e.min_generator_speed;
   c.estimate_rate = s.get_number("estimate_rate", c.estimate_rate, 0.01, 100.0);
@@ -101,6 +104,30 @@ bool DriveTrainDiagnoser::update(const FrameSample& s, bool gap, std::vector<Fau
     report_converter(s.t, events);
   }
 
+  // The two speed sensors against each other: the balance takes omega_g, which a sensor fault moves before
+  // sensor_bias names it. While they disagree with neither reported, no block is made, and those of the last
+  // context_lookback are dropped when they begin to.
+  const bool placed = context_.rotor_speed_suspect || context_.generator_speed_suspect;
+  if (c_.speed_pair_mismatch > 0.0 && plausible && std::isfinite(s.rotor_speed) && s.rotor_speed >= 0.0 &&
+      (s.valid_mask & kValidRotorSpeed) && !placed) {
+    pair_rotor_.add(s.rotor_speed);
+    pair_generator_.add(s.generator_speed);
+    if (static_cast<double>(pair_rotor_.n) * c_.sample_time >= c_.speed_pair_time - 1e-9) {
+      const double rotor = pair_rotor_.mean(), generator = pair_generator_.mean() / c_.efficiency.gear_ratio;
+      const bool disagree = rotor * c_.efficiency.gear_ratio > c_.efficiency.min_generator_speed &&
+                            std::fabs(generator - rotor) > c_.speed_pair_mismatch * rotor;
+      if (disagree && !speeds_disagree_) {
+        efficiency_.discard_recent(c_.context_lookback);
+        ++disagreements_;
+      }
+      speeds_disagree_ = disagree;
+      pair_rotor_.reset(), pair_generator_.reset();
+    }
+  } else if (placed || c_.speed_pair_mismatch <= 0.0) {
+    speeds_disagree_ = false;
+    pair_rotor_.reset(), pair_generator_.reset();
+  }
+
   // The energy balance judges each sample half an anemometer window late, with the rotor speed taken as
   // omega_g / N (the power model's tip-speed ratio then carries the generator sensor's small noise). A
   // suspect pitch reading is replaced by its reference (the actuator follows it): the balance goes on through
@@ -125,8 +152,8 @@ bool DriveTrainDiagnoser::update(const FrameSample& s, bool gap, std::vector<Fau
     last_centre_t_ = centre.t;
     last_centre_sequence_ = centre.sequence;
     const bool forget = context_.generator_speed_suspect;
-    const bool usable =
-        !forget && (!centre_gap || bridged) && !context_.turbine_stopped && std::isfinite(centre.rotor_speed);
+    const bool usable = !forget && !speeds_disagree_ && (!centre_gap || bridged) &&
+                        !context_.turbine_stopped && std::isfinite(centre.rotor_speed);
     efficiency_.update(centre.gen_torque, centre.generator_speed, aero_power, pitch, usable, forget,
                        static_cast<std::size_t>(lost));
     report_efficiency(centre.t, events);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <deque>
+#include <vector>
 
 #include "running_stats.hpp"
 
@@ -37,6 +38,12 @@ struct EfficiencyConfig {
   double iced_inertia_ratio = 1.05;   ///< the reference blocks' fitted rotor inertia over the clean rotor's
                                       ///< above which the rotor is iced, not the gearbox lossy (healthy fits
                                       ///< 0.94-1.01; 3 t of ice 1.08-1.15)
+  /// A drop is raised only when a step fits the blocks' efficiencies (reference, gap and test) better than
+  /// any bend does (a line whose slope changes once): a drive train's efficiency loss is a step (the
+  /// benchmark's fault 9, a gear or bearing failing), while an iced rotor's Cp falls as the ice grows, over
+  /// minutes, and fast accretions (7.5 t in 5 min) were raised as efficiency losses 75-330 s after the ice
+  /// began.
+  bool step_shape = true;
   /// The blocks' efficiencies weigh the rotor at least this heavy: ice only adds inertia, and a fit below
   /// the clean rotor is the anemometer's error (0: the fit as it is).
   double inertia_ratio_floor = 1.0;
@@ -50,7 +57,14 @@ struct EfficiencyState {
   double reference = 0.0;      ///< mean ratio of the reference blocks (frozen while raised)
   double drop = 0.0;           ///< (reference - efficiency) / reference
   double inertia_ratio = 1.0;  ///< rotor inertia fitted on the reference blocks over the clean rotor's
+  double step_misfit = 0.0;    ///< last tested drop: residual sum of squares of the best step ...
+  double bend_misfit = 0.0;    ///< ... and of the best bend over the blocks (step_shape)
 };
+
+/// Least-squares fits of a series y(x): the best single step (two levels) and the best bend (a continuous
+/// line whose slope changes once, at a sample), each as its residual sum of squares.
+double step_misfit(const std::vector<double>& x, const std::vector<double>& y);
+double bend_misfit(const std::vector<double>& x, const std::vector<double>& y);
 
 class EfficiencyMonitor {
  public:
@@ -72,6 +86,7 @@ class EfficiencyMonitor {
   /// torque (all N m, generator side).
   struct Block {
     double generator_side = 0.0, rotor_side = 0.0, inertia_torque = 0.0;
+    double t = 0.0;  ///< s, the block's end
   };
   void close_block();
   void reset_block();  // drops the block in progress
@@ -80,6 +95,9 @@ class EfficiencyMonitor {
   double fitted_inertia_ratio(std::size_t from, std::size_t n) const;
   /// Mean of the blocks' efficiencies with the rotor inertia scaled by `inertia_ratio`.
   double ratio(std::size_t from, std::size_t n, double inertia_ratio) const;
+  /// Whether a step fits the blocks' efficiencies better than a bend (step_shape); sets the misfits. The
+  /// blocks are all those kept, back to the end of the last loss that cleared.
+  bool step_shaped(double inertia_ratio);
 
   EfficiencyConfig c_;
   double dt_;
@@ -89,6 +107,7 @@ class EfficiencyMonitor {
   std::size_t lost_in_block_ = 0;  // samples lost within the block in progress (its span counts them)
   std::deque<Block> blocks_;       // newest last
   double t_ = 0.0, good_since_ = -1.0, drop_since_ = -1.0;
+  double regime_from_ = -1e300;  // s: the shape test fits no block before the last loss's end (its clear)
   EfficiencyState state_;
 };
 
