@@ -418,7 +418,7 @@ bool PitchDiagnoser::update(const FrameSample& s, bool gap, std::vector<FaultEve
     const InputContext& ctx = suspects_.context();
     if (transient || stuck || ctx.pitch_sensor_suspect[i] || ctx.turbine_stopped) {
       ++held_[i];
-      blades_[i].hold();
+      blades_[i].hold(stuck || ctx.pitch_sensor_suspect[i]);
       blades_[i].decide_from(s.t + cfg_.hold_settle);
       blades_[i].identification_restarted(s.t);
       continue;

@@ -110,9 +110,16 @@ class BladeDiagnoser {
   void set_rate_limit(double deg_per_s) { id_.set_rate_limit(deg_per_s); }
   void restart() { id_.restart(); }
   /// Held (suspect input, start-up, a context transient): nothing identified, and identification and a class
-  /// in confirmation start again afterwards from the healthy model. A raised fault stays raised.
-  void hold() {
-    id_.forget();
+  /// in confirmation start again afterwards from the healthy model. A raised fault stays raised. With
+  /// `reading_suspect` (the pitch reading itself reported or stuck) the level removal starts again too: its
+  /// filters last took readings from before the report, which a sensor's offset had already moved, and the
+  /// step back to the true reading after the hold decayed through the bank as a slow actuator (fault suite:
+  /// hydraulic_leakage or pump_wear raised 23-29 s after a pitch sensor's bias or gain ended, 3 in 21 sets).
+  void hold(bool reading_suspect = false) {
+    if (reading_suspect)
+      id_.reset();
+    else
+      id_.forget();
     candidate_ = "none";
     pending_ = 0.0;
   }
