@@ -78,6 +78,8 @@ class DriveTrainDiagnoser {
   uint64_t rejected() const { return rejected_; }
   const ConverterState& converter() const { return converter_.state(); }
   const EfficiencyState& efficiency() const { return efficiency_.state(); }
+  /// Times the two speed sensors began to disagree (speed_pair_mismatch) with neither reported.
+  uint64_t speed_disagreements() const { return disagreements_; }
 
  private:
   void report_converter(double t, std::vector<FaultEvent>& events);
@@ -97,10 +99,6 @@ class DriveTrainDiagnoser {
   RunningMean pair_rotor_, pair_generator_;  // the two speeds over the current speed_pair_time
   bool speeds_disagree_ = false;
   uint64_t disagreements_ = 0;
-
- public:
-  /// Times the two speed sensors began to disagree (speed_pair_mismatch) with neither reported.
-  uint64_t speed_disagreements() const { return disagreements_; }
 };
 
 }  // namespace windfdi::drive_train

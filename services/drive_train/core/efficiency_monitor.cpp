@@ -99,8 +99,7 @@ double EfficiencyMonitor::fitted_inertia_ratio(std::size_t from, std::size_t n) 
   return eta_j / eta;
 }
 
-double step_misfit(const std::vector<double>& x, const std::vector<double>& y) {
-  (void)x;  // a step's levels do not depend on where its samples lie
+double step_misfit(const std::vector<double>& y) {
   const std::size_t n = y.size();
   double total = 0.0, total_sq = 0.0;
   for (double v : y) total += v, total_sq += v * v;
@@ -118,16 +117,16 @@ double step_misfit(const std::vector<double>& x, const std::vector<double>& y) {
 double bend_misfit(const std::vector<double>& x, const std::vector<double>& y) {
   // y = a + b x + c max(x - x_k, 0) for each knot x_k (the last: a plain line), by the normal equations.
   const std::size_t n = y.size();
+  double yy = 0.0;
+  for (double v : y) yy += v * v;
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < n; ++k) {
     Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
     Eigen::Vector3d b = Eigen::Vector3d::Zero();
-    double yy = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
       const Eigen::Vector3d phi(1.0, x[i] - x[0], std::max(x[i] - x[k], 0.0));
       a += phi * phi.transpose();
       b += phi * y[i];
-      yy += y[i] * y[i];
     }
     // The knot at the last sample leaves c undetermined: a plain line.
     const Eigen::Vector3d theta = a.ldlt().solve(b);
@@ -136,7 +135,7 @@ double bend_misfit(const std::vector<double>& x, const std::vector<double>& y) {
   return std::max(best, 0.0);
 }
 
-bool EfficiencyMonitor::step_shaped(double inertia_ratio) {
+bool EfficiencyMonitor::step_shaped(double inertia_ratio) const {
   std::vector<double> x, y;
   x.reserve(blocks_.size()), y.reserve(blocks_.size());
   for (const Block& b : blocks_) {
@@ -148,9 +147,7 @@ bool EfficiencyMonitor::step_shaped(double inertia_ratio) {
   }
   // Too few blocks since that end to tell the shapes apart: the drop waits for more.
   if (y.size() < 12) return false;
-  state_.step_misfit = step_misfit(x, y);
-  state_.bend_misfit = bend_misfit(x, y);
-  return state_.step_misfit < state_.bend_misfit;
+  return step_misfit(y) < bend_misfit(x, y);
 }
 
 double EfficiencyMonitor::ratio(std::size_t from, std::size_t n, double inertia_ratio) const {

@@ -57,13 +57,12 @@ struct EfficiencyState {
   double reference = 0.0;      ///< mean ratio of the reference blocks (frozen while raised)
   double drop = 0.0;           ///< (reference - efficiency) / reference
   double inertia_ratio = 1.0;  ///< rotor inertia fitted on the reference blocks over the clean rotor's
-  double step_misfit = 0.0;    ///< last tested drop: residual sum of squares of the best step ...
-  double bend_misfit = 0.0;    ///< ... and of the best bend over the blocks (step_shape)
 };
 
-/// Least-squares fits of a series y(x): the best single step (two levels) and the best bend (a continuous
-/// line whose slope changes once, at a sample), each as its residual sum of squares.
-double step_misfit(const std::vector<double>& x, const std::vector<double>& y);
+/// Least-squares fits of a series y(x), each as its residual sum of squares: the best single step (two
+/// levels; where the samples lie does not matter) and the best bend (a continuous line whose slope changes
+/// once, at a sample).
+double step_misfit(const std::vector<double>& y);
 double bend_misfit(const std::vector<double>& x, const std::vector<double>& y);
 
 class EfficiencyMonitor {
@@ -95,9 +94,9 @@ class EfficiencyMonitor {
   double fitted_inertia_ratio(std::size_t from, std::size_t n) const;
   /// Mean of the blocks' efficiencies with the rotor inertia scaled by `inertia_ratio`.
   double ratio(std::size_t from, std::size_t n, double inertia_ratio) const;
-  /// Whether a step fits the blocks' efficiencies better than a bend (step_shape); sets the misfits. The
-  /// blocks are all those kept, back to the end of the last loss that cleared.
-  bool step_shaped(double inertia_ratio);
+  /// Whether a step fits the blocks' efficiencies better than a bend (step_shape). The blocks are all those
+  /// kept, back to the end of the last loss that cleared.
+  bool step_shaped(double inertia_ratio) const;
 
   EfficiencyConfig c_;
   double dt_;

@@ -46,7 +46,7 @@ class SyntheticBlade {
     level_phase_ = 2.0 * M_PI * std::uniform_real_distribution<double>(0.0, 1.0)(rng_);
     // Drawn after everything else, so that profiles without it keep their random streams.
     if (c_.fast_std > 0.0) add_band(c_.fast_std, c_.fast_lo, c_.fast_hi);
-    angle_ = reference(0.0);
+    actuator_.angle = reference(0.0);
   }
 
   double reference(double t) const {
@@ -55,24 +55,18 @@ class SyntheticBlade {
     return std::clamp(u, 0.0, 90.0);
   }
 
-  double measure() { return angle_ + c_.offset + c_.noise * normal_(rng_); }
-  double angle() const { return angle_; }
-  double rate() const { return rate_; }
+  double measure() { return actuator_.angle + c_.offset + c_.noise * normal_(rng_); }
+  double angle() const { return actuator_.angle; }
+  double rate() const { return actuator_.rate; }
   /// Puts the actuator at this angle (deg) and rate (deg/s).
-  void set_state(double angle, double rate) {
-    angle_ = angle;
-    rate_ = rate;
-  }
+  void set_state(double angle, double rate) { actuator_ = PitchActuator{angle, rate}; }
 
   /// Advances one sampling period with u held (the plant's RK4 actuator, 10 substeps, its rate limit and no
   /// end stops).
   void step(double u, double omega_n, double zeta) {
     const int n = 10;
     const double inf = std::numeric_limits<double>::infinity();
-    PitchActuator a{angle_, rate_};
-    for (int k = 0; k < n; ++k) a.step(u, c_.T / n, omega_n, zeta, c_.rate_limit, -inf, inf);
-    angle_ = a.angle;
-    rate_ = a.rate;
+    for (int k = 0; k < n; ++k) actuator_.step(u, c_.T / n, omega_n, zeta, c_.rate_limit, -inf, inf);
   }
 
  private:
@@ -98,7 +92,7 @@ class SyntheticBlade {
   std::normal_distribution<double> normal_{0.0, 1.0};
   std::vector<double> freq_, amp_, phase_;
   double level_phase_ = 0.0;
-  double angle_ = 0.0, rate_ = 0.0;
+  PitchActuator actuator_;
 };
 
 }  // namespace windfdi::pitch_diag::synth
