@@ -202,6 +202,49 @@ TEST(FaultReportTable, ShowsAReclassificationAndCountsItApart) {
       << table;
 }
 
+TEST(FaultReportTable, ASheddingRaisedOnIceThatStaysIsUnexpectedNotTheAccretionsLaterName) {
+  using namespace windfdi::farm;
+  // GIVEN ice accreting from 900 s on two rotors (it never ends) and a shedding injected on WT02 at 1500 s
+  std::vector<InjectedFault> injected = {{"WT01", "rotor", "ice_accretion", 900.0, "", ""},
+                                         {"WT02", "rotor", "ice_accretion", 900.0, "", ""},
+                                         {"WT02", "rotor", "ice_shedding", 1500.0, "", ""}};
+  for (auto& i : injected) std::tie(i.component, i.fault) = expected_detection(i.target, i.type);
+  auto ice = [](const std::string& turbine, const std::string& cls, double t, bool raised = true) {
+    FaultEvent e = fault(turbine, "rotor", cls, t, raised);
+    e.source = "ice_detect";
+    e.t_detected = t;
+    return HistoryRow{t, "fault", turbine, to_json(e)};
+  };
+  // and both accretions reported at 1100 s, WT02's shedding 20 s after it, and two sheddings nothing injected
+  // (each held 60 s): on WT01, whose ice stays, and on WT02 900 s after its shedding
+  const std::vector<HistoryRow> history = {
+      ice("WT01", "ice_accretion", 1100.0), ice("WT02", "ice_accretion", 1100.0),
+      ice("WT02", "ice_shedding", 1520.0),  ice("WT02", "ice_shedding", 1580.0, false),
+      ice("WT01", "ice_shedding", 1600.0),  ice("WT01", "ice_shedding", 1660.0, false),
+      ice("WT02", "ice_shedding", 2400.0)};
+  // THEN each accretion is named right and never re-classified as a shedding, the shedding is found in 20 s
+  const auto rows = match(injected, history);
+  ASSERT_EQ(rows.size(), 3u);
+  for (int k : {0, 1}) {
+    EXPECT_EQ(rows[k].detected_fault, "ice_accretion");
+    EXPECT_TRUE(rows[k].reclassified.empty()) << rows[k].reclassified[0];
+  }
+  EXPECT_EQ(rows[2].detected_fault, "ice_shedding");
+  EXPECT_DOUBLE_EQ(rows[2].delay, 20.0);
+  // ... and the two others are unexpected reports of their own (until stop 55 both were the accretions'
+  // later names and counted nowhere)
+  const auto extra = extra_reports(injected, history);
+  ASSERT_EQ(extra.size(), 2u);
+  EXPECT_EQ(extra[0].turbine, "WT01");
+  EXPECT_DOUBLE_EQ(extra[0].t_detected, 1600.0);
+  EXPECT_EQ(extra[1].turbine, "WT02");
+  EXPECT_DOUBLE_EQ(extra[1].t_detected, 2400.0);
+  for (const auto& x : extra) {
+    EXPECT_EQ(x.fault, "ice_shedding");
+    EXPECT_FALSE(x.secondary);
+  }
+}
+
 }  // namespace
 
 TEST(FaultReportStops, AStopIsWarrantedByALeakOrByIceAtItsStopLevelShortlyBefore) {
