@@ -58,6 +58,8 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
                         "power_step_window",
                         "power_step",
                         "shed_power_step",
+                        "shed_power_confirm",
+                        "shed_power_keep",
                         "turbine_file"});
   // clang-format on
   DetectorConfig c;
@@ -81,6 +83,8 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
   e.power_step_window = s.get_number("power_step_window", e.power_step_window, 10.0, e.power_window);
   e.power_step = s.get_number("power_step", e.power_step, 0.0, 0.5);
   c.shed_power_step = s.get_number("shed_power_step", c.shed_power_step, 0.0, 0.5);
+  c.shed_power_confirm = s.get_number("shed_power_confirm", c.shed_power_confirm, 0.0, 59.0);
+  c.shed_power_keep = s.get_number("shed_power_keep", c.shed_power_keep, 0.0, 2.0);
   e.power_gain = s.get_number("power_gain", e.power_gain, 0.5, 1.0);
   e.friction = s.get_number("friction", e.friction, 0.0, 1e4);
   c.wind_window = s.get_number("wind_window", c.wind_window, 0.0, 10.0);
@@ -336,9 +340,35 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   // only a window later). Only on a rotor whose ice takes Cp (the turbine file's ice_cp_loss): on one whose
   // ice does not, a calibration step is the wind's, and it raised "about 0 kg shed" on the example 2 MW
   // turbine, after which the real shedding fell in the wait that follows one and went unreported.
-  const bool cp_recovered = cp_step && cfg_.shed_power_step > 0.0 && cfg_.ice_cp_loss > 0.0 &&
-                            estimator_.last_step_from_settled() &&
-                            estimator_.last_power_step() >= cfg_.shed_power_step && iced;
+  // The step is seen when the last step window's balance crosses shed_power_step, and the wind crosses it
+  // too: a gust the model on a point anemometer misses moves that minute's balance by 1.1-1.3 %, the size a
+  // shedding shows when first seen (9 false sheddings in 48 hours of ice that stayed on the suite's judged
+  // set 161). A shedding keeps its Cp: the seconds after the step hold at least the step (2.0-3.6 % from the
+  // third second of a 1.6 t shedding on the benchmark rotor), where the wind's fall back below the
+  // calibration before it (-4 to +0.7 % in the same three cases).
+  const std::size_t since_step = estimator_.seconds_since_step();
+  if (cp_step) {
+    // A step while a shedding is reported is that shedding's Cp (the inertia's witness spoke first).
+    const bool candidate = shed_raised_at_ < 0.0 && cfg_.shed_power_step > 0.0 && cfg_.ice_cp_loss > 0.0 &&
+                           estimator_.last_step_from_settled() &&
+                           estimator_.last_power_step() >= cfg_.shed_power_step && iced;
+    cp_candidate_ = candidate ? estimator_.last_power_step() : 0.0;
+    cp_candidate_at_ = t;
+    cp_kept_ = 0;
+    cp_counted_ = 0;
+  } else if (cp_candidate_ > 0.0 && static_cast<double>(since_step) >= step_window) {
+    // Not kept for a step window: the wind's. The balances of that window carry the calibration of the gust
+    // and those before it the one from before; across the two, the 20.8 m/s rotor of set 161 read an inertia
+    // fall of 7.4 % 75 s after the step. The test starts afresh, as after a hole.
+    cp_candidate_ = 0.0;
+    drop_test_.forget();
+  }
+  // Each second of balance once: while the estimator is not fed (a suspect input, a stop) none is added.
+  if (cp_candidate_ > 0.0 && since_step > cp_counted_) {
+    cp_counted_ = since_step;
+    cp_kept_ = estimator_.balance_since_step() >= cfg_.shed_power_keep * cp_candidate_ ? cp_kept_ + 1 : 0;
+  }
+  const bool cp_recovered = cp_candidate_ > 0.0 && static_cast<double>(cp_kept_) >= cfg_.shed_power_confirm;
   if (shed_raised_at_ < 0.0 && (cp_recovered || inertia_fell)) {
     shed_raised_at_ = t;
     shed_confirmed_ = 0;
@@ -353,17 +383,20 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
       drop_test_.forget();
     // Dated when the fall first stood out: its window's onset only estimates the shedding's, and a report
     // dated before a fault began belongs to none (the farm report's attribution).
-    FaultEvent e = rotor_event("ice_shedding", true, "warning", t, inertia_fell ? shed_first_at_ : t);
+    FaultEvent e =
+        rotor_event("ice_shedding", true, "warning", t, inertia_fell ? shed_first_at_ : cp_candidate_at_);
     char detail[200];
     if (!inertia_fell) {
-      // Size from the Cp recovered, at the turbine's Cp loss per tonne of ice.
-      e.statistic = estimator_.last_power_step();
-      e.threshold = cfg_.shed_power_step;
-      e.size = cfg_.ice_cp_loss > 0.0 ? 1000.0 * e.statistic / cfg_.ice_cp_loss : 0.0;
-      std::snprintf(detail, sizeof detail,
-                    "power coefficient recovered %.1f %% within a minute with %.0f kg of ice reported: about "
-                    "%.0f kg shed",
-                    100.0 * e.statistic, out_.ice_mass, e.size);
+      // Size from the Cp kept since the step (as first seen, the step is the threshold's, 1.0-1.3 %
+      // whatever was shed), at the turbine's Cp loss per tonne of ice.
+      e.statistic = estimator_.balance_since_step();
+      e.threshold = cfg_.shed_power_keep * cp_candidate_;
+      e.size = cfg_.ice_cp_loss > 0.0 ? 1000.0 * std::max(0.0, e.statistic) / cfg_.ice_cp_loss : 0.0;
+      std::snprintf(
+          detail, sizeof detail,
+          "power coefficient up %.1f %% in the %zu s since a step of %.1f %% (kept %d s in a row), with "
+          "%.0f kg of ice reported: about %.0f kg shed",
+          100.0 * e.statistic, since_step, 100.0 * cp_candidate_, cp_kept_, out_.ice_mass, e.size);
     } else {
       e.statistic = drop.z;
       e.threshold = cfg_.shed_sigmas;
@@ -378,6 +411,7 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
     }
     e.detail = detail;
     events.push_back(e);
+    cp_candidate_ = 0.0;
   } else if (shed_raised_at_ >= 0.0 && t - shed_raised_at_ >= cfg_.shed_hold) {
     FaultEvent e = rotor_event("ice_shedding", false, "warning", t, shed_raised_at_);
     e.detail = "shedding event over";

@@ -54,9 +54,13 @@ struct DetectorConfig {
   double clear_time = 30.0;            ///< s below the clear level before a raised level clears
   double clear_ratio = 0.7;            ///< a level clears below this share of its threshold (hysteresis)
   double shed_power_step =
-      0.01;                   ///< rise of the power model's calibration in one step that is shedding (0: off)
-  double ice_cp_loss = 0.02;  ///< share of Cp an iced rotor loses per tonne (sizes a shedding from its Cp)
-  DropTestConfig drop_test;   ///< the inertia's own witness of a shedding (reference and windows)
+      0.01;  ///< rise of the power model's calibration in one step that is shedding (0: off)
+  /// s in a row the balance since such a step must hold shed_power_keep of the step before it is shedding
+  /// (0: at once); a step the wind made leaves with the wind
+  double shed_power_confirm = 10.0;
+  double shed_power_keep = 0.5;  ///< share of the step as first seen the seconds after it must hold
+  double ice_cp_loss = 0.02;     ///< share of Cp an iced rotor loses per tonne (sizes a shedding from its Cp)
+  DropTestConfig drop_test;      ///< the inertia's own witness of a shedding (reference and windows)
   double shed_sigmas = 4.0;  ///< the fall of the inertia over its learned standard deviation that is shedding
   double shed_confirm = 5.0;      ///< s (tested seconds in a row) the fall must stand out
   double shed_min_drop = 0.025;   ///< share of J0: a smaller fall is no shedding however clear
@@ -122,6 +126,10 @@ class IceDetector {
   InertiaDropTest drop_test_;      // per-second balances: sees a shedding within a minute or two
   int shed_confirmed_ = 0;         // tested seconds in a row the fall stood out
   double shed_first_at_ = -1.0;    // the first of them
+  double cp_candidate_ = 0.0;      // a step up of the calibration with ice reported, not yet kept (0: none)
+  double cp_candidate_at_ = -1.0;  // when it was seen
+  int cp_kept_ = 0;                // seconds in a row since, the balance since the step held the step
+  std::size_t cp_counted_ = 0;     // the last second of balance since the step counted in cp_kept_
   double scale_before_ = 1.0;      // the power model's calibration a second ago
   double step_settled_at_ = -1.0;  // the calibration of the aerodynamics after its last step is known then
   double iced_at_ = -1.0;          // the last second ice was reported (-1: never)

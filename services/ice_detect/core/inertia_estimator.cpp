@@ -58,6 +58,12 @@ void InertiaEstimator::calibrate() {
   since_power_change_ = std::min(since_power_change_ + 1, seconds_.size());
   const std::size_t span = std::min(seconds_filled_, since_power_change_);
   if (!calibrated_ && seconds_filled_ < seconds_.size()) return;
+  // Whether the aerodynamics kept a step: the seconds since it alone against the calibration before it.
+  since_step_balance_ = 0.0;
+  if (power_changes_ > 0 && span > 0 && span < step_seconds && scale_before_step_ > 0.0) {
+    const double since = energy_balance_scale(0, span);
+    if (since > 0.0) since_step_balance_ = since / scale_before_step_ - 1.0;
+  }
   if (span < step_seconds || step_seconds == 0) return;
   const double long_scale = energy_balance_scale(0, span);
   if (long_scale <= 0.0) return;

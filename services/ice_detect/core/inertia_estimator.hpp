@@ -57,6 +57,11 @@ class InertiaEstimator {
   /// True when the last step left a calibration that had held three step windows (not the recovery from a
   /// transient dip).
   bool last_step_from_settled() const { return last_step_from_settled_; }
+  /// Seconds of calibration since the last step (0 before any step).
+  std::size_t seconds_since_step() const { return power_changes_ > 0 ? since_power_change_ : 0; }
+  /// Until a step window after the last step: the calibration of the seconds since it alone, relative to the
+  /// one before it (> 0: more power). 0 otherwise.
+  double balance_since_step() const { return since_step_balance_; }
   /// True while the recent energy balance is half way to a step: the aerodynamics may be changing, and a
   /// regression window across the change is not to be trusted.
   bool power_unsettled() const { return power_unsettled_; }
@@ -90,6 +95,7 @@ class InertiaEstimator {
   double power_wander_ = 0.0;
   double last_power_step_ = 0.0;
   double scale_before_step_ = 0.0;
+  double since_step_balance_ = 0.0;
   bool last_step_from_settled_ = false;
   bool power_unsettled_ = false;  // mean square relative departure of the recent balance from the calibration
   // Window of (psi_x, psi_g, omega - omega_0, time since the initialisation event) and its sums of products.

@@ -451,8 +451,15 @@ TEST(IceDetector, SheddingOfIceThatWasThereIsFlaggedWithinAMinute) {
         run_plant(wind, 1000, true, {shedding(0.4, 700)}, 3000.0, seed, config("shed_sigmas: 100"));
     const FaultEvent* e = shedding_raised(cp, 700.0, 700.0 + limit);
     ASSERT_NE(e, nullptr) << wind << " m/s seed " << seed << "\n" << describe(cp);
-    EXPECT_NE(e->detail.find("power coefficient recovered"), std::string::npos) << e->detail;
+    EXPECT_NE(e->detail.find("power coefficient up"), std::string::npos) << e->detail;
     EXPECT_EQ(shedding_raised(cp, 0.0, 700.0), nullptr) << describe(cp);
+    // ... sized from the Cp the seconds after the step kept (as first seen, the step read 1.1-1.3 % of Cp,
+    // about 550 kg), dated when the step was seen
+    std::printf("[measured] Cp witness, %g m/s seed %d: raised %.0f s after the drop, dated %.0f s: %s\n",
+                wind, seed, e->t - 700.0, e->t_detected - 700.0, e->detail.c_str());
+    EXPECT_NEAR(e->size, 1200.0, 400.0) << e->detail;
+    EXPECT_GE(e->t_detected, 700.0);
+    EXPECT_LE(e->t_detected, e->t - 9.0) << e->detail;  // shed_power_confirm: ten seconds in a row
     // ... and with both witnesses as shipped as soon or sooner (the inertia's, in windows of at least a
     // minute on this rotor, sized at most the ice reported), once
     const auto r = run_plant(wind, 1000, true, {shedding(0.4, 700)}, 3000.0, seed);
@@ -476,7 +483,7 @@ TEST(IceDetector, ASheddingRaisedFromTheCpGivenBackIsNotRaisedAgainFromTheInerti
     EXPECT_EQ(raised, 1) << wind << " m/s seed " << seed << "\n" << describe(r);
     const FaultEvent* e = shedding_raised(r, 1500.0, 1800.0);
     ASSERT_NE(e, nullptr);
-    EXPECT_NE(e->detail.find("power coefficient recovered"), std::string::npos) << e->detail;
+    EXPECT_NE(e->detail.find("power coefficient up"), std::string::npos) << e->detail;
   }
 }
 
@@ -1063,3 +1070,39 @@ TEST(IceDetector, AStoppingTurbineRaisesNoIce) {
 }
 
 }  // namespace
+
+TEST(IceDetector, AGustThatCrossesTheStepThresholdOnAnIcedRotorIsNoShedding) {
+  // GIVEN three benchmark rotors of the multi-fault suite's set 161 (judged in stop 54) with 4000 kg of ice
+  // that stays, as scenarios 161_00 and 161_01 run them: 18.6 m/s (TI 0.156), 7 m/s (TI 0.152) and 20.8 m/s
+  // (TI 0.151). The wind moves a minute's energy balance 1.1-1.4 % above the calibration before it, past
+  // shed_power_step, and back within seconds
+  struct Turbine {
+    const char* id;
+    double wind, turbulence_intensity, shear_exponent;
+    uint64_t seed;
+    double ramp_in;
+  };
+  for (const auto& c :
+       {Turbine{"WT04", 18.6, 0.156, 0.220, 16100, 300.0}, Turbine{"WT02", 7.0, 0.152, 0.247, 16100, 600.0},
+        Turbine{"WT02", 20.8, 0.151, 0.281, 16101, 600.0}}) {
+    auto ice = plant::FaultSpec::make(c.id, "rotor", "ice_accretion", 900.0);
+    ice.value = 4000.0;
+    ice.has_value = true;
+    ice.ramp_in = c.ramp_in;
+    const auto turbine = healthy_suite_turbine(c.id, c.wind, c.turbulence_intensity, c.shear_exponent, 0.03);
+    // THEN taken at once, as before stop 55, the step is a shedding (1455 and 1879 s; 2638 s; 1986 s) ...
+    const auto at_once =
+        run_turbine(turbine, 2700, true, {ice}, c.seed, config("shed_power_confirm: 0"), {}, TurbineParams{});
+    const FaultEvent* e = shedding_raised(at_once, 0.0, 2700.0);
+    ASSERT_NE(e, nullptr) << c.wind << " m/s\n" << describe(at_once);
+    EXPECT_NE(e->detail.find("power coefficient up"), std::string::npos) << e->detail;
+    // ... and as shipped, where the seconds after a step must keep it, the ice is reported and not shed (nor
+    // by the inertia's witness, which read a 7.4 % fall at 20.8 m/s across the gust's calibration until the
+    // test started afresh after a step the aerodynamics did not keep)
+    const auto kept = run_turbine(turbine, 2700, true, {ice}, c.seed, defaults(), {}, TurbineParams{});
+    EXPECT_EQ(shedding_raised(kept, 0.0, 2700.0), nullptr) << c.wind << " m/s\n" << describe(kept);
+    EXPECT_TRUE(std::any_of(kept.events.begin(), kept.events.end(), [](const FaultEvent& x) {
+      return x.raised && x.fault == "ice_accretion";
+    })) << describe(kept);
+  }
+}
