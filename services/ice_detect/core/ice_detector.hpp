@@ -62,8 +62,11 @@ struct DetectorConfig {
   double ice_cp_loss = 0.02;     ///< share of Cp an iced rotor loses per tonne (sizes a shedding from its Cp)
   DropTestConfig drop_test;      ///< the inertia's own witness of a shedding (reference and windows)
   double shed_sigmas = 4.0;  ///< the fall of the inertia over its learned standard deviation that is shedding
-  double shed_confirm = 5.0;      ///< s (tested seconds in a row) the fall must stand out
-  double shed_min_drop = 0.025;   ///< share of J0: a smaller fall is no shedding however clear
+  double shed_confirm = 5.0;     ///< s (tested seconds in a row) the fall must stand out
+  double shed_min_drop = 0.025;  ///< share of J0: a smaller fall is no shedding however clear
+  /// On a rotor whose ice takes Cp: the share of the Cp a fall's mass took (ice_cp_loss) that the calibration
+  /// must have given back over the fall's window before the inertia's witness is shedding (0: off)
+  double shed_inertia_cp_share = 0.2;
   double shed_min_rise = 0.0137;  ///< inertia rise (500 kg on the benchmark rotor) that must be estimated,
                                   ///< with ice_accretion raised, to shed
   double shed_hold = 60.0;        ///< s an ice_shedding report stays raised
@@ -131,6 +134,11 @@ class IceDetector {
   int cp_kept_ = 0;                // seconds in a row since, the balance since the step held the step
   std::size_t cp_counted_ = 0;     // the last second of balance since the step counted in cp_kept_
   double scale_before_ = 1.0;      // the power model's calibration a second ago
+  std::deque<double> scale_history_;  // the calibration at each of the last seconds (the drop test's windows)
+  /// s before a fall's onset the Cp it gives back is counted from (the calibration's step window lags it)
+  static constexpr double kCpLead = 30.0;
+  /// The calibration's relative rise over the last `seconds`.
+  double cp_rise(double seconds) const;
   double step_settled_at_ = -1.0;  // the calibration of the aerodynamics after its last step is known then
   double iced_at_ = -1.0;          // the last second ice was reported (-1: never)
   std::deque<double> ice_recent_;  // kg of ice reported in each of the last seconds (0: none reported)
