@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
+#include <tuple>
 
 #include "deploy_dir.hpp"
 #include "farm_state.hpp"
@@ -30,6 +32,18 @@ FaultEvent fault(const std::string& turbine, const std::string& component, const
   e.raised = raised;
   e.severity = "critical";
   return e;
+}
+
+/// Injected faults (turbine, target, type, start) with the component and class a service should report.
+std::vector<InjectedFault> injected_faults(
+    std::initializer_list<std::tuple<const char*, const char*, const char*, double>> faults) {
+  std::vector<InjectedFault> out;
+  for (const auto& [turbine, target, type, start] : faults) {
+    InjectedFault i{turbine, target, type, start, "", ""};
+    std::tie(i.component, i.fault) = expected_detection(i.target, i.type);
+    out.push_back(i);
+  }
+  return out;
 }
 
 TEST(FarmStore, ReplayedEventsAreStoredOnce) {
@@ -140,10 +154,9 @@ TEST(FarmStateIsolation, TheLiveTableMarksAReportAnotherExplainsAsSecondary) {
 TEST(FaultReportTable, MatchesInjectedFaultsWithDetectionsAndReactions) {
   using namespace windfdi::farm;
   // GIVEN a leak injected at 120 s and a blade gain at 90 s, and a history with the leak detected at 126.5 s
-  std::vector<InjectedFault> injected = {{"WT02", "pitch_actuator_3", "hydraulic_leakage", 120.0, "", ""},
-                                         {"WT01", "blade_moment_2", "gain", 90.0, "", ""},
-                                         {"WT01", "wind_hub", "bias", 50.0, "", ""}};
-  for (auto& i : injected) std::tie(i.component, i.fault) = expected_detection(i.target, i.type);
+  const auto injected = injected_faults({{"WT02", "pitch_actuator_3", "hydraulic_leakage", 120.0},
+                                         {"WT01", "blade_moment_2", "gain", 90.0},
+                                         {"WT01", "wind_hub", "bias", 50.0}});
   EXPECT_EQ(injected[1].component, "blade_moment_sensor_2");
   EXPECT_EQ(injected[1].fault, "sensor_abrupt");
   EXPECT_EQ(injected[2].component, "");  // no service watches the anemometer
@@ -177,8 +190,7 @@ TEST(FaultReportTable, MatchesInjectedFaultsWithDetectionsAndReactions) {
 TEST(FaultReportTable, ShowsAReclassificationAndCountsItApart) {
   using namespace windfdi::farm;
   // GIVEN a leak at 120 s first reported as pump wear (122 s), then as hydraulic leakage (125 s)
-  std::vector<InjectedFault> injected = {{"WT02", "pitch_actuator_3", "hydraulic_leakage", 120.0, "", ""}};
-  for (auto& i : injected) std::tie(i.component, i.fault) = expected_detection(i.target, i.type);
+  const auto injected = injected_faults({{"WT02", "pitch_actuator_3", "hydraulic_leakage", 120.0}});
   FaultEvent first = fault("WT02", "pitch_actuator_3", "pump_wear", 122.0);
   first.t_detected = 122.0;
   FaultEvent second = fault("WT02", "pitch_actuator_3", "hydraulic_leakage", 125.0);
@@ -205,10 +217,9 @@ TEST(FaultReportTable, ShowsAReclassificationAndCountsItApart) {
 TEST(FaultReportTable, ASheddingRaisedOnIceThatStaysIsUnexpectedNotTheAccretionsLaterName) {
   using namespace windfdi::farm;
   // GIVEN ice accreting from 900 s on two rotors (it never ends) and a shedding injected on WT02 at 1500 s
-  std::vector<InjectedFault> injected = {{"WT01", "rotor", "ice_accretion", 900.0, "", ""},
-                                         {"WT02", "rotor", "ice_accretion", 900.0, "", ""},
-                                         {"WT02", "rotor", "ice_shedding", 1500.0, "", ""}};
-  for (auto& i : injected) std::tie(i.component, i.fault) = expected_detection(i.target, i.type);
+  const auto injected = injected_faults({{"WT01", "rotor", "ice_accretion", 900.0},
+                                         {"WT02", "rotor", "ice_accretion", 900.0},
+                                         {"WT02", "rotor", "ice_shedding", 1500.0}});
   auto ice = [](const std::string& turbine, const std::string& cls, double t, bool raised = true) {
     FaultEvent e = fault(turbine, "rotor", cls, t, raised);
     e.source = "ice_detect";
