@@ -353,9 +353,9 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   // highest of that span within shed_power_step (a calibration that stepped up and back down inside the
   // window gives the balances two calibrations, and their mix reads as a fall). Traced on the suite's
   // benchmark and medium-speed rotors: three real sheddings the inertia raised had 1.02, 1.36 and 0.28 of
-  // the Cp back, 0.6 % or less below the span's highest; five falls on ice that stayed 0.02, 0.01 and -3.4
-  // to -4.5 of it, or stood 6 % below the span's highest. Until then the fall waits (it is confirmed each
-  // second until the Cp follows or it fades).
+  // the Cp back, 0.6 % or less below the span's highest; of five falls on ice that stayed, two had 0.01-0.02
+  // of it, and over the other three the calibration fell 5.4-5.8 % (5.4-6.2 % below the span's highest).
+  // Until then the fall waits (it is confirmed each second until the Cp follows or it fades).
   if (inertia_fell && cfg_.ice_cp_loss > 0.0 && cfg_.shed_inertia_cp_share > 0.0) {
     const double span = drop.since + kCpLead;
     const double taken = cfg_.ice_cp_loss * drop.drop * j0_ * mass_per_inertia_ / 1000.0;
@@ -371,10 +371,10 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   // turbine, after which the real shedding fell in the wait that follows one and went unreported.
   // The step is seen when the last step window's balance crosses shed_power_step, and the wind crosses it
   // too: a gust the model on a point anemometer misses moves that minute's balance by 1.1-1.3 %, the size a
-  // shedding shows when first seen (9 false sheddings in 48 hours of ice that stayed on the suite's judged
-  // set 161). A shedding keeps its Cp: the seconds after the step hold at least the step (2.0-3.6 % from the
-  // third second of a 1.6 t shedding on the benchmark rotor), where the wind's fall back below the
-  // calibration before it (-4 to +0.7 % in the same three cases).
+  // shedding shows when first seen (6 of the 8 false sheddings in 48 hours of ice that stayed on the suite's
+  // set 161). A shedding keeps its Cp: the seconds after the step alone hold shed_power_keep of the step for
+  // shed_power_confirm seconds (2.0-3.6 % from the third second of a 1.6 t shedding on the benchmark rotor),
+  // where the wind's fall back below the calibration before it (-10 to +0.7 % in three such gusts).
   const std::size_t since_step = estimator_.seconds_since_step();
   if (cp_step) {
     // A step while a shedding is reported is that shedding's Cp (the inertia's witness spoke first).
