@@ -273,6 +273,14 @@ double IceDetector::cp_rise(double seconds) const {
   return before > 0.0 ? scale_history_.back() / before - 1.0 : 0.0;
 }
 
+double IceDetector::cp_below_highest(double seconds) const {
+  if (scale_history_.empty()) return 0.0;
+  const std::size_t n =
+      std::min(scale_history_.size(), static_cast<std::size_t>(std::max(0.0, std::round(seconds))) + 1);
+  const double highest = *std::max_element(scale_history_.end() - static_cast<long>(n), scale_history_.end());
+  return highest > 0.0 ? scale_history_.back() / highest - 1.0 : 0.0;
+}
+
 void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   out_.t = t;
   out_.excited = estimator_.excited();
@@ -315,11 +323,12 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   // within 20 s): there a fall counts only in windows at least that long.
   const double step_window = cfg_.estimator.power_step_window;
   if (cp_step) {
-    drop_test_.calibration_stepped(static_cast<std::size_t>(step_window), scale_before_);
+    // The calibration a second ago (1 before the first second).
+    drop_test_.calibration_stepped(static_cast<std::size_t>(step_window),
+                                   scale_history_.empty() ? 1.0 : scale_history_.back());
     shed_confirmed_ = 0;
     step_settled_at_ = t + step_window;
   }
-  scale_before_ = estimator_.power_scale();
   scale_history_.push_back(estimator_.power_scale());
   while (static_cast<double>(scale_history_.size()) > cfg_.drop_test.window_max + kCpLead + 1.0)
     scale_history_.pop_front();
@@ -359,10 +368,8 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   if (inertia_fell && cfg_.ice_cp_loss > 0.0 && cfg_.shed_inertia_cp_share > 0.0) {
     const double span = drop.since + kCpLead;
     const double taken = cfg_.ice_cp_loss * drop.drop * j0_ * mass_per_inertia_ / 1000.0;
-    double below_highest = 0.0;
-    for (double k = 1.0; k <= span; k += 1.0) below_highest = std::min(below_highest, cp_rise(k));
-    inertia_fell =
-        cp_rise(span) >= cfg_.shed_inertia_cp_share * taken && below_highest >= -cfg_.shed_power_step;
+    inertia_fell = cp_rise(span) >= cfg_.shed_inertia_cp_share * taken &&
+                   cp_below_highest(span) >= -cfg_.shed_power_step;
   }
   // The aerodynamic signature of the same event: ice that falls off gives back the Cp it took, a step up of
   // the power model's calibration (the estimator restarts on it, so the inertia drop itself is confirmed

@@ -133,12 +133,13 @@ class IceDetector {
   double cp_candidate_at_ = -1.0;  // when it was seen
   int cp_kept_ = 0;                // seconds in a row since, the balance since the step held the step
   std::size_t cp_counted_ = 0;     // the last second of balance since the step counted in cp_kept_
-  double scale_before_ = 1.0;      // the power model's calibration a second ago
   std::deque<double> scale_history_;  // the calibration at each of the last seconds (the drop test's windows)
   /// s before a fall's onset the Cp it gives back is counted from (the calibration's step window lags it)
   static constexpr double kCpLead = 30.0;
   /// The calibration's relative rise over the last `seconds`.
   double cp_rise(double seconds) const;
+  /// The calibration's relative distance below its highest of the last `seconds` (<= 0).
+  double cp_below_highest(double seconds) const;
   double step_settled_at_ = -1.0;  // the calibration of the aerodynamics after its last step is known then
   double iced_at_ = -1.0;          // the last second ice was reported (-1: never)
   std::deque<double> ice_recent_;  // kg of ice reported in each of the last seconds (0: none reported)
