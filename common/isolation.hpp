@@ -22,6 +22,10 @@ struct Signature {
   /// Where this row and the reverse one both hold (each report explains the other), this row's root wins
   /// even when it was detected after its responder (evidence the reverse path cannot produce).
   bool outranks = false;
+  /// s after its root within which a responder is this row's echo (0: any time while both stand). A
+  /// responder that stops taking the root's input once the root is reported (drive_train's balance moves to
+  /// the rotor's speed sensor) is its own root when it is raised later than that.
+  double trail = 0.0;
 };
 
 /// The table (documented in deploy/arbiter/DECISION_TABLE.md "Isolation"; every row is a unit test).

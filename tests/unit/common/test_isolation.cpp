@@ -115,6 +115,21 @@ TEST(Isolation, IceExplainsAnEfficiencyLossTheEnergyBalanceSawMinutesBefore) {
   EXPECT_GE(longest_lead(), 900.0);
 }
 
+TEST(Isolation, AnEfficiencyLossRaisedLongAfterTheGeneratorSpeedsReportIsTheDriveTrainsOwn) {
+  // GIVEN a generator-speed report at 1000 s (from then on drive_train's balance takes the rotor's sensor and
+  // judges again only after a minute of new blocks)
+  const Report speed = report("sensor_bias", "generator_speed_sensor", "sensor_stuck", 1000);
+  // THEN an efficiency loss raised 20 s after it is still its echo (blocks from before the report) ...
+  EXPECT_TRUE(isolate({speed, report("drive_train", "drive_train", "efficiency_loss", 1020)})[1].secondary);
+  // ... and one raised 65 s after it (fault suite set 170, scenario 06: a real loss 70 s into a stuck
+  // generator speed) is a root, as is the generator speed
+  const auto v = isolate({speed, report("drive_train", "drive_train", "efficiency_loss", 1065)});
+  EXPECT_FALSE(v[0].secondary);
+  EXPECT_FALSE(v[1].secondary);
+  // AND the other rows of the generator speed keep no trail: a pitch actuator report 10 min later is its echo
+  EXPECT_TRUE(isolate({speed, report("pitch_diag", "pitch_actuator_2", "pump_wear", 1600)})[1].secondary);
+}
+
 TEST(Isolation, BladeBoundRowsDoNotCrossBlades) {
   // A pitch sensor fault on blade 1 does not explain an actuator fault on blade 3.
   const auto v = isolate({report("sensor_bias", "pitch_sensor_1", "sensor_bias", 10),
