@@ -38,11 +38,14 @@ bool AeroPowerInput::push(const FrameSample& s, bool gap, FrameSample& out, bool
       window_.back().sample.valid_mask |= kValidPitch1 << i;
     }
   if (usable_wind(s.wind_hub)) wind_sum_ += s.wind_hub, ++wind_count_;
+  if (std::isfinite(s.rotor_speed)) speed_sum_ += s.rotor_speed, ++speed_count_;
   // The next sample out is the one half a window behind the newest (at the start, with fewer before it).
   if (window_.size() - 1 - next_ < half_) return false;
   const Entry& centre = window_[next_];
   out = centre.sample;
   out_gap = centre.gap;
+  if (speed_average_ && std::isfinite(out.rotor_speed))
+    out.rotor_speed = speed_sum_ / static_cast<double>(speed_count_);
   if (std::isfinite(out.aero_power)) {
     power = out.aero_power;  // the recording's column (replay contract)
   } else {
@@ -53,6 +56,8 @@ bool AeroPowerInput::push(const FrameSample& s, bool gap, FrameSample& out, bool
   if (++next_ > half_) {
     if (usable_wind(window_.front().sample.wind_hub))
       wind_sum_ -= window_.front().sample.wind_hub, --wind_count_;
+    if (std::isfinite(window_.front().sample.rotor_speed))
+      speed_sum_ -= window_.front().sample.rotor_speed, --speed_count_;
     window_.pop_front();
     --next_;
   }

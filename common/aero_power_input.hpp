@@ -38,6 +38,10 @@ class AeroPowerInput {
     absent_ = absent;
     absent_pitch_ = absent_pitch;
   }
+  /// On: the sample out carries the window's mean rotor speed (its finite values), centred as the wind's,
+  /// and its power is the model's at it. For a speed sensor too noisy to take sample by sample (the rotor's,
+  /// where a generator's is the usual source).
+  void set_speed_average(bool on) { speed_average_ = on; }
 
  private:
   bool usable_wind(double v) const;
@@ -52,6 +56,9 @@ class AeroPowerInput {
   std::size_t next_ = 0;      // index in window_ of the next sample out
   double wind_sum_ = 0.0;     // over the window's finite anemometer values
   std::size_t wind_count_ = 0;
+  double speed_sum_ = 0.0;  // over the window's finite rotor speeds
+  std::size_t speed_count_ = 0;
+  bool speed_average_ = false;
   uint32_t absent_ = 0;
   double absent_pitch_ = 0.0;
 };

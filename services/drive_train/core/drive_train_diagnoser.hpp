@@ -38,6 +38,11 @@ struct DiagnoserConfig {
   /// rotor speed (the rotor sensor's noise and the shaft's torsion); the suite's faults: 3-8 %.
   double speed_pair_mismatch = 0.02;
   double speed_pair_time = 2.0;  ///< s over which each speed is averaged for it
+  /// While another service reports the generator speed and not the rotor speed, the energy balance runs on
+  /// the rotor's own sensor (times N) instead of stopping. Stopped, it needed three minutes of blocks after
+  /// the report cleared, and an efficiency step inside a generator-speed fault or in the minutes after it
+  /// was never seen: 4 of the 43 efficiency losses of fault suite sets 168-171 (false: stop, as before).
+  bool rotor_speed_fallback = true;
   double max_bridged_gap = 0.5;  ///< s: samples lost over at most this long leave the energy balance's
                                  ///< block running (its span counts them); a longer hole ends the block
   // Plausible measurements: beyond them a sample is rejected (counted), never fed.
@@ -68,11 +73,12 @@ class DriveTrainDiagnoser {
   /// generator speed): counted, never fed.
   bool update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events);
   bool estimate_due(DriveTrainOutput& out);
-  /// A suspect generator speed takes the power witness away and stops the energy balance (its blocks are
-  /// forgotten); a suspect pitch reading is replaced by its reference. When a sensor is newly reported, the
-  /// blocks of the last context_lookback are dropped. So they are when the two speed sensors begin to
-  /// disagree (speed_pair_mismatch) with neither reported, and the balance holds until they agree again or
-  /// one is reported.
+  /// A suspect generator speed takes the power witness away; the energy balance then takes the rotor's
+  /// speed sensor (rotor_speed_fallback), or stops and forgets its blocks when that is suspect too or the
+  /// fallback is off. A suspect pitch reading is replaced by its reference. When a sensor the balance takes
+  /// is newly reported, the blocks of the last context_lookback are dropped. So they are when the two speed
+  /// sensors begin to disagree (speed_pair_mismatch) with neither reported, and the balance holds until they
+  /// agree again or one is reported.
   void set_context(const InputContext& context, double t);
 
   uint64_t rejected() const { return rejected_; }
@@ -80,10 +86,15 @@ class DriveTrainDiagnoser {
   const EfficiencyState& efficiency() const { return efficiency_.state(); }
   /// Times the two speed sensors began to disagree (speed_pair_mismatch) with neither reported.
   uint64_t speed_disagreements() const { return disagreements_; }
+  /// True while the energy balance takes the rotor's speed sensor (the generator's is reported).
+  bool balance_on_rotor_speed() const { return on_rotor_speed(context_); }
 
  private:
   void report_converter(double t, std::vector<FaultEvent>& events);
   void report_efficiency(double t, std::vector<FaultEvent>& events);
+  bool on_rotor_speed(const InputContext& context) const {
+    return c_.rotor_speed_fallback && context.generator_speed_suspect && !context.rotor_speed_suspect;
+  }
 
   DiagnoserConfig c_;
   ConverterMonitor converter_;
@@ -98,6 +109,9 @@ class DriveTrainDiagnoser {
   bool have_estimate_ = false;
   RunningMean pair_rotor_, pair_generator_;  // the two speeds over the current speed_pair_time
   bool speeds_disagree_ = false;
+  // The balance's speed source changed at this sample time: the samples within half a wind window of it
+  // reach the balance averaged over both sensors and are left out (NaN: no change under way).
+  double source_switch_t_ = kNaN;
   uint64_t disagreements_ = 0;
 };
 
