@@ -142,10 +142,9 @@ bool DriveTrainDiagnoser::update(const FrameSample& s, bool gap, std::vector<Fau
   // The energy balance judges each sample half an anemometer window late, with the rotor speed taken as
   // omega_g / N (the power model's tip-speed ratio then carries the generator sensor's small noise). A
   // suspect pitch reading is replaced by its reference (the actuator follows it): the balance goes on through
-  // a pitch sensor's fault. Through a generator-speed sensor's fault it takes the rotor's sensor times N: 50
-  // times noisier, but the blocks' speed changes come from 0.5 s averages at their ends and their torques
-  // from 5 s means, and over healthy hours (rotor sensor throughout) the drop's scatter stays well inside the
-  // step (unit test TheBalanceGoesOnThroughAGeneratorSpeedFaultOnTheRotorsSensor).
+  // a pitch sensor's fault. Through a generator-speed sensor's fault it takes the rotor's sensor times N,
+  // averaged below: over healthy hours on it the drop's scatter stays inside the step (unit test
+  // OnTheRotorsSpeedSensorHealthyHoursRaiseNothing).
   const bool on_rotor = on_rotor_speed(context_);
   const double rotor_reading = (s.valid_mask & kValidRotorSpeed) ? s.rotor_speed : kNaN;
   const double balance_speed = on_rotor ? rotor_reading * c_.efficiency.gear_ratio : s.generator_speed;
