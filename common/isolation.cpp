@@ -118,16 +118,16 @@ double longest_lead(const IsolationConfig& config) {
 std::vector<Verdict> isolate(const std::vector<Report>& reports, const IsolationConfig& c) {
   const std::size_t n = reports.size();
   std::vector<Verdict> out(n);
+  // The responder's report within the row's lead before its root's and its trail after it.
+  const auto echo = [&](const Signature* row, const Report& root, const Report& responder) {
+    const double lead = row->lead > 0.0 ? row->lead : c.lead;
+    return responder.t_detected >= root.t_detected - lead &&
+           (row->trail <= 0.0 || responder.t_detected <= root.t_detected + row->trail);
+  };
   for (std::size_t r = 0; r < n; ++r) {
     const Report& R = reports[r];
     for (std::size_t s = 0; s < n; ++s) {
       const Report& S = reports[s];
-      // The responder's report within the row's lead before its root's and its trail after it.
-      const auto echo = [&](const Signature* row, const Report& root, const Report& responder) {
-        const double lead = row->lead > 0.0 ? row->lead : c.lead;
-        return responder.t_detected >= root.t_detected - lead &&
-               (row->trail <= 0.0 || responder.t_detected <= root.t_detected + row->trail);
-      };
       const Signature* row = s == r ? nullptr : row_for(S, R);
       if (!row || !echo(row, S, R)) continue;  // R came long before S (or after its trail): not S's echo
       const Signature* back = row_for(R, S);

@@ -152,7 +152,6 @@ bool DriveTrainDiagnoser::update(const FrameSample& s, bool gap, std::vector<Fau
   FrameSample fed = s;
   for (std::size_t i = 0; i < kBlades; ++i)
     if (context_.pitch_sensor_suspect[i]) fed.pitch[i] = s.pitch_ref[i];
-  fed.generator_speed = balance_speed;
   fed.rotor_speed = balanced ? balance_speed / c_.efficiency.gear_ratio : kNaN;
   fed.aero_power = kNaN;  // the model's power, never a recording's column: the balance tests the model
   FrameSample centre;
@@ -173,7 +172,7 @@ bool DriveTrainDiagnoser::update(const FrameSample& s, bool gap, std::vector<Fau
     // change of sensor: the samples whose window holds both are left out.
     if (on_rotor) centre.generator_speed = centre.rotor_speed * c_.efficiency.gear_ratio;
     const bool switching = centre.t <= source_switch_t_ + 0.5 * c_.wind_window + 1e-9;
-    if (centre.t > source_switch_t_ + 0.5 * c_.wind_window + 1e-9) source_switch_t_ = kNaN;
+    if (!switching) source_switch_t_ = kNaN;
     const bool forget = context_.generator_speed_suspect && !on_rotor;
     const bool usable = !forget && !speeds_disagree_ && !switching && (!centre_gap || bridged) &&
                         !context_.turbine_stopped && std::isfinite(centre.rotor_speed);

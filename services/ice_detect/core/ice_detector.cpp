@@ -265,19 +265,20 @@ double median(std::vector<double> v) {
 }
 }  // namespace
 
+std::size_t IceDetector::history_back(double seconds) const {
+  return std::min(scale_history_.size() - 1, static_cast<std::size_t>(std::max(0.0, std::round(seconds))));
+}
+
 double IceDetector::cp_rise(double seconds) const {
   if (scale_history_.empty()) return 0.0;
-  const std::size_t back =
-      std::min(scale_history_.size() - 1, static_cast<std::size_t>(std::max(0.0, std::round(seconds))));
-  const double before = scale_history_[scale_history_.size() - 1 - back];
+  const double before = scale_history_[scale_history_.size() - 1 - history_back(seconds)];
   return before > 0.0 ? scale_history_.back() / before - 1.0 : 0.0;
 }
 
 double IceDetector::cp_below_highest(double seconds) const {
   if (scale_history_.empty()) return 0.0;
-  const std::size_t n =
-      std::min(scale_history_.size(), static_cast<std::size_t>(std::max(0.0, std::round(seconds))) + 1);
-  const double highest = *std::max_element(scale_history_.end() - static_cast<long>(n), scale_history_.end());
+  const auto first = scale_history_.end() - static_cast<long>(history_back(seconds) + 1);
+  const double highest = *std::max_element(first, scale_history_.end());
   return highest > 0.0 ? scale_history_.back() / highest - 1.0 : 0.0;
 }
 

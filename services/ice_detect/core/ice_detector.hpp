@@ -136,6 +136,8 @@ class IceDetector {
   std::deque<double> scale_history_;  // the calibration at each of the last seconds (the drop test's windows)
   /// s before a fall's onset the Cp it gives back is counted from (the calibration's step window lags it)
   static constexpr double kCpLead = 30.0;
+  /// Entries of scale_history_ (not empty) `seconds` back from its newest, at most all of it.
+  std::size_t history_back(double seconds) const;
   /// The calibration's relative rise over the last `seconds`.
   double cp_rise(double seconds) const;
   /// The calibration's relative distance below its highest of the last `seconds` (<= 0).
