@@ -126,8 +126,28 @@ TEST(Isolation, AnEfficiencyLossRaisedLongAfterTheGeneratorSpeedsReportIsTheDriv
   const auto v = isolate({speed, report("drive_train", "drive_train", "efficiency_loss", 1065)});
   EXPECT_FALSE(v[0].secondary);
   EXPECT_FALSE(v[1].secondary);
-  // AND the other rows of the generator speed keep no trail: a pitch actuator report 10 min later is its echo
-  EXPECT_TRUE(isolate({speed, report("pitch_diag", "pitch_actuator_2", "pump_wear", 1600)})[1].secondary);
+  // AND a row without a trail keeps its responder an echo while both stand: a blade-moment report 10 min
+  // later
+  EXPECT_TRUE(
+      isolate({speed, report("blade_load", "blade_moment_sensor_2", "sensor_drift", 1600)})[1].secondary);
+}
+
+TEST(Isolation, APitchActuatorFaultRaisedLongAfterASpeedSensorsReportIsTheActuatorsOwn) {
+  // GIVEN a speed sensor's report at 1000 s (the arbiter switches the controller to the corrected speed)
+  for (const char* sensor : {"generator_speed_sensor", "rotor_speed_sensor"}) {
+    const Report speed = report("sensor_bias", sensor, "sensor_bias", 1000);
+    // THEN an actuator report 10 s after it is still its echo (the switch's transient) ...
+    EXPECT_TRUE(isolate({speed, report("pitch_diag", "pitch_actuator_2", "pump_wear", 1010)})[1].secondary)
+        << sensor;
+    // ... one before it too (the wrong speed moved the pitch) ...
+    EXPECT_TRUE(isolate({speed, report("pitch_diag", "pitch_actuator_2", "pump_wear", 990)})[1].secondary)
+        << sensor;
+    // ... and one 116 s after it (fault suite set 170, scenario 06: air in blade 3's oil 116 s into a stuck
+    // generator speed) is a root, as is the speed sensor
+    const auto v = isolate({speed, report("pitch_diag", "pitch_actuator_3", "high_air_content", 1116)});
+    EXPECT_FALSE(v[0].secondary) << sensor;
+    EXPECT_FALSE(v[1].secondary) << sensor;
+  }
 }
 
 TEST(Isolation, BladeBoundRowsDoNotCrossBlades) {
