@@ -88,8 +88,15 @@ struct BiasConfig {
   /// A pitch channel whose error the full model [1, reference, rate] fits this much better (the same
   /// likelihood ratio) than both the offset and the gain is no sensor fault: it is not raised (the blade's
   /// dynamics changed, pitch_diag's to report). Measured on the plant: pitch sensor offsets and gains 0-8,
-  /// the paper's time-varying bias 18-51, abrupt leaks 200-840. 0: off.
+  /// the paper's time-varying bias 18-51, abrupt leaks 200-840. A speed channel's record that misfits as
+  /// much while it waits for its type began before the onset (below). 0: off.
   double type_misfit_max = 100.0;
+  /// A pitch channel whose reported model (gain or offset) fits a lag of the reading behind its reference
+  /// longer than this many times the healthy actuator's (2 zeta / omega_n of the turbine file, 0.108 s for
+  /// the benchmark's), by three standard errors, is the actuator's dynamics, not its sensor: not raised. A
+  /// sensor's fault leaves the lag as it was (0-0.20 s fitted in the suite); a leak lengthens it (0.35-0.41
+  /// s). 0: off.
+  double type_lag_ratio_max = 0.0;
   /// Observer mode: a speed sensor is flagged only when the differential b_r - b_g / N (what the two speed
   /// sensors alone can see) confirms it with the same sign and at least this share of the threshold.
   double differential_confirm = 0.5;
@@ -240,6 +247,8 @@ class BiasEstimator {
   // raised.
   std::array<double, kChannels> last_reading_{};
   std::array<int, kChannels> reading_repeats_{};
+  /// s, the healthy pitch actuator's lag behind its reference (a second-order system's 2 zeta / omega_n).
+  double healthy_pitch_lag() const { return 2.0 * turbine_.pitch_zeta / turbine_.pitch_omega_n; }
   /// The channel's reading has repeated to the last bit for stuck_samples: a stuck sensor.
   bool reading_stuck(std::size_t k) const {
     return cfg_.stuck_samples > 0 && reading_repeats_[k] >= cfg_.stuck_samples;
@@ -247,6 +256,8 @@ class BiasEstimator {
   std::array<const char*, kChannels> raised_class_{};
   std::array<GainOrOffsetTest, kChannels> fault_type_{};  // gain or offset, since the channel's onset
   std::array<GainOrOffsetTest::Verdict, kChannels> raised_verdict_{};
+  // The speed channel's record was restarted in this episode above the threshold (once per episode).
+  std::array<bool, kChannels> type_restarted_{};
   std::array<double, kChannels> raised_gain_{};
   // The reading when the fault was raised (a stuck one's value).
   std::array<double, kChannels> raised_reading_{};

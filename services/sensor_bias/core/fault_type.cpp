@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace windfdi::sensor_bias {
 
@@ -28,18 +29,24 @@ void GainOrOffsetTest::add(double error, double value, double nuisance) {
   block_sum_.setZero();
 }
 
-double GainOrOffsetTest::fit(const Eigen::Vector3d& use, Eigen::Vector3d* coefficients) const {
-  // Normal equations over the chosen regressors. A regressor that never moved from zero (no nuisance, a
-  // pitch standing at 0 deg) gets a small ridge and so a zero coefficient instead of a singular system.
+Eigen::Matrix3d GainOrOffsetTest::normal_matrix(const Eigen::Vector3d& use) const {
+  // A regressor that never moved from zero (no nuisance, a pitch standing at 0 deg) gets a small ridge and so
+  // a zero coefficient instead of a singular system.
   Eigen::Matrix3d a = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d b = Eigen::Vector3d::Zero();
   for (int i = 0; i < 3; ++i) {
     if (use(i) == 0.0) continue;
-    b(i) = ue_(i);
     for (int j = 0; j < 3; ++j)
       if (use(j) != 0.0) a(i, j) = uu_(i, j);
     a(i, i) += 1e-9 * uu_(i, i) + 1e-12 * static_cast<double>(blocks_);
   }
+  return a;
+}
+
+double GainOrOffsetTest::fit(const Eigen::Vector3d& use, Eigen::Vector3d* coefficients) const {
+  const Eigen::Matrix3d a = normal_matrix(use);
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 3; ++i)
+    if (use(i) != 0.0) b(i) = ue_(i);
   const Eigen::Vector3d c = a.ldlt().solve(b);
   if (coefficients) *coefficients = c;
   return std::max(0.0, ee_ - c.dot(b));
@@ -83,6 +90,19 @@ double GainOrOffsetTest::gain() const {
   Eigen::Vector3d c;
   fit(Eigen::Vector3d(0, 1, 1), &c);
   return regressor_is_reading_ ? 1.0 / (1.0 - c(1)) : 1.0 + c(1);
+}
+
+double GainOrOffsetTest::nuisance(bool gain_model) const {
+  Eigen::Vector3d c;
+  fit(gain_model ? Eigen::Vector3d(0, 1, 1) : Eigen::Vector3d(1, 0, 1), &c);
+  return c(2);
+}
+
+double GainOrOffsetTest::nuisance_error(bool gain_model) const {
+  if (blocks_ <= 3) return std::numeric_limits<double>::infinity();
+  const Eigen::Vector3d use = gain_model ? Eigen::Vector3d(0, 1, 1) : Eigen::Vector3d(1, 0, 1);
+  const double variance = fit(use, nullptr) / static_cast<double>(blocks_ - 2);
+  return std::sqrt(variance * normal_matrix(use).inverse()(2, 2));
 }
 
 double GainOrOffsetTest::offset() const {

@@ -44,10 +44,18 @@ class GainOrOffsetTest {
   double misfit() const;
   double gain() const;    ///< the gain model's sensor gain
   double offset() const;  ///< a of the offset model
+  /// The nuisance's coefficient c in the gain model (`gain_model`) or the offset model: for the pitch, whose
+  /// nuisance is the reference rate, minus the actuator's lag in s.
+  double nuisance(bool gain_model) const;
+  /// Its standard error (the model's residual variance per block through the inverse normal matrix): large
+  /// where the nuisance hardly moved (a pitch reference standing at fine pitch).
+  double nuisance_error(bool gain_model) const;
 
  private:
   // Least squares over the regressors in `use` ([1, x, z]); returns the residual sum of squares.
   double fit(const Eigen::Vector3d& use, Eigen::Vector3d* coefficients) const;
+  // The normal equations' matrix of that fit (identity rows for the regressors not used).
+  Eigen::Matrix3d normal_matrix(const Eigen::Vector3d& use) const;
   // The noise variance per block from the full model's residual sum of squares (the likelihood units).
   double noise_variance(double full_rss) const;
 

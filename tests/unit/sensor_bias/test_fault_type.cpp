@@ -101,6 +101,24 @@ TEST(GainOrOffset, ThePitchLagIsANuisanceNotAGain) {
   EXPECT_NEAR(offset_test.offset(), 1.5, 0.05);
   EXPECT_EQ(gain_test.verdict(16.0), Verdict::kGain) << gain_test.evidence();
   EXPECT_NEAR(gain_test.gain(), 1.2, 0.01);
+  // AND each model returns the lag it took (minus the nuisance's coefficient), known to a few ms
+  EXPECT_NEAR(-offset_test.nuisance(false), tau, 0.01);
+  EXPECT_NEAR(-gain_test.nuisance(true), tau, 0.01);
+  EXPECT_LT(offset_test.nuisance_error(false), 0.01);
+  EXPECT_LT(gain_test.nuisance_error(true), 0.01);
+}
+
+TEST(GainOrOffset, ALagIsUnknownWhereTheReferenceStoodStill) {
+  // GIVEN a pitch reference standing at 0 deg (fine pitch, region 2) with rate noise of 1e-4 deg/s, and a
+  // +1.5 deg sensor offset read with 0.2 deg noise
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.2), rate_noise(0.0, 1e-4);
+  GainOrOffsetTest test(1, true);
+  for (int i = 0; i < 500; ++i) test.add(1.5 + noise(rng), 1.5, rate_noise(rng));
+  // THEN whatever lag it fits, its standard error is larger than any actuator's lag: it says nothing
+  EXPECT_GT(test.nuisance_error(false), 10.0) << -test.nuisance(false);
+  // AND with no record it is unknown too
+  EXPECT_TRUE(std::isinf(GainOrOffsetTest(1, true).nuisance_error(false)));
 }
 
 TEST(GainOrOffset, AtZeroTheOnlyFitIsTheOffsetAndRestartForgets) {
