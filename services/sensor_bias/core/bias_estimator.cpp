@@ -464,10 +464,11 @@ const char* BiasEstimator::fault_class(std::size_t k, double waited) {
   // moved fits lags of -16 to +18 s to real pitch-sensor offsets (standard errors up to 10^4 s), and a
   // second of record after an offset's onset 1.0 +- 0.39 s: the 100 Hz residuals are not white, so the
   // standard error is optimistic and two of them were not enough.
-  if (k >= 2 && cfg_.type_lag_ratio_max > 0.0 &&
-      -fault_type_[k].nuisance(gain) - 3.0 * fault_type_[k].nuisance_error(gain) >
-          cfg_.type_lag_ratio_max * healthy_pitch_lag())
-    return nullptr;
+  if (k >= 2 && cfg_.type_lag_ratio_max > 0.0) {
+    const GainOrOffsetTest::Nuisance lag = fault_type_[k].nuisance(gain);
+    if (-lag.coefficient - 3.0 * lag.standard_error > cfg_.type_lag_ratio_max * healthy_pitch_lag())
+      return nullptr;
+  }
   return gain ? "sensor_gain" : "sensor_bias";
 }
 
@@ -504,9 +505,8 @@ std::string BiasEstimator::detail(std::size_t k, bool raised) const {
   std::string out = d;
   if (k >= 2 && fault != "sensor_stuck" && cfg_.type_evidence > 0.0 && type.blocks() > 3) {
     // The actuator's lag behind the reference that the reported model fits (what type_lag_ratio_max judges).
-    const bool gain = fault == "sensor_gain";
-    std::snprintf(d, sizeof d, "; fitted actuator lag %.3g s (+-%.2g)", -type.nuisance(gain),
-                  type.nuisance_error(gain));
+    const GainOrOffsetTest::Nuisance lag = type.nuisance(fault == "sensor_gain");
+    std::snprintf(d, sizeof d, "; fitted actuator lag %.3g s (+-%.2g)", -lag.coefficient, lag.standard_error);
     out += d;
   }
   return out;

@@ -96,7 +96,7 @@ struct BiasConfig {
   /// the benchmark's), by three standard errors, is the actuator's dynamics, not its sensor: not raised. A
   /// sensor's fault leaves the lag as it was (0-0.20 s fitted in the suite); a leak lengthens it (0.35-0.41
   /// s). 0: off.
-  double type_lag_ratio_max = 0.0;
+  double type_lag_ratio_max = 2.3;
   /// Observer mode: a speed sensor is flagged only when the differential b_r - b_g / N (what the two speed
   /// sensors alone can see) confirms it with the same sign and at least this share of the threshold.
   double differential_confirm = 0.5;

@@ -92,17 +92,13 @@ double GainOrOffsetTest::gain() const {
   return regressor_is_reading_ ? 1.0 / (1.0 - c(1)) : 1.0 + c(1);
 }
 
-double GainOrOffsetTest::nuisance(bool gain_model) const {
-  Eigen::Vector3d c;
-  fit(gain_model ? Eigen::Vector3d(0, 1, 1) : Eigen::Vector3d(1, 0, 1), &c);
-  return c(2);
-}
-
-double GainOrOffsetTest::nuisance_error(bool gain_model) const {
-  if (blocks_ <= 3) return std::numeric_limits<double>::infinity();
+GainOrOffsetTest::Nuisance GainOrOffsetTest::nuisance(bool gain_model) const {
   const Eigen::Vector3d use = gain_model ? Eigen::Vector3d(0, 1, 1) : Eigen::Vector3d(1, 0, 1);
-  const double variance = fit(use, nullptr) / static_cast<double>(blocks_ - 2);
-  return std::sqrt(variance * normal_matrix(use).inverse()(2, 2));
+  Eigen::Vector3d c;
+  const double rss = fit(use, &c);
+  if (blocks_ <= 3) return {c(2), std::numeric_limits<double>::infinity()};
+  const double variance = rss / static_cast<double>(blocks_ - 2);
+  return {c(2), std::sqrt(variance * normal_matrix(use).inverse()(2, 2))};
 }
 
 double GainOrOffsetTest::offset() const {

@@ -44,12 +44,15 @@ class GainOrOffsetTest {
   double misfit() const;
   double gain() const;    ///< the gain model's sensor gain
   double offset() const;  ///< a of the offset model
-  /// The nuisance's coefficient c in the gain model (`gain_model`) or the offset model: for the pitch, whose
-  /// nuisance is the reference rate, minus the actuator's lag in s.
-  double nuisance(bool gain_model) const;
-  /// Its standard error (the model's residual variance per block through the inverse normal matrix): large
-  /// where the nuisance hardly moved (a pitch reference standing at fine pitch).
-  double nuisance_error(bool gain_model) const;
+  struct Nuisance {
+    /// c: for the pitch, whose nuisance is the reference rate, minus the actuator's lag in s
+    double coefficient;
+    /// the model's residual variance per block through the inverse normal matrix: large where the nuisance
+    /// hardly moved (a pitch reference standing at fine pitch); infinite with too few blocks
+    double standard_error;
+  };
+  /// The nuisance's coefficient in the gain model (`gain_model`) or the offset model, from one fit.
+  Nuisance nuisance(bool gain_model) const;
 
  private:
   // Least squares over the regressors in `use` ([1, x, z]); returns the residual sum of squares.

@@ -102,10 +102,10 @@ TEST(GainOrOffset, ThePitchLagIsANuisanceNotAGain) {
   EXPECT_EQ(gain_test.verdict(16.0), Verdict::kGain) << gain_test.evidence();
   EXPECT_NEAR(gain_test.gain(), 1.2, 0.01);
   // AND each model returns the lag it took (minus the nuisance's coefficient), known to a few ms
-  EXPECT_NEAR(-offset_test.nuisance(false), tau, 0.01);
-  EXPECT_NEAR(-gain_test.nuisance(true), tau, 0.01);
-  EXPECT_LT(offset_test.nuisance_error(false), 0.01);
-  EXPECT_LT(gain_test.nuisance_error(true), 0.01);
+  EXPECT_NEAR(-offset_test.nuisance(false).coefficient, tau, 0.01);
+  EXPECT_NEAR(-gain_test.nuisance(true).coefficient, tau, 0.01);
+  EXPECT_LT(offset_test.nuisance(false).standard_error, 0.01);
+  EXPECT_LT(gain_test.nuisance(true).standard_error, 0.01);
 }
 
 TEST(GainOrOffset, ALagIsUnknownWhereTheReferenceStoodStill) {
@@ -116,9 +116,9 @@ TEST(GainOrOffset, ALagIsUnknownWhereTheReferenceStoodStill) {
   GainOrOffsetTest test(1, true);
   for (int i = 0; i < 500; ++i) test.add(1.5 + noise(rng), 1.5, rate_noise(rng));
   // THEN whatever lag it fits, its standard error is larger than any actuator's lag: it says nothing
-  EXPECT_GT(test.nuisance_error(false), 10.0) << -test.nuisance(false);
+  EXPECT_GT(test.nuisance(false).standard_error, 10.0) << -test.nuisance(false).coefficient;
   // AND with no record it is unknown too
-  EXPECT_TRUE(std::isinf(GainOrOffsetTest(1, true).nuisance_error(false)));
+  EXPECT_TRUE(std::isinf(GainOrOffsetTest(1, true).nuisance(false).standard_error));
 }
 
 TEST(GainOrOffset, AtZeroTheOnlyFitIsTheOffsetAndRestartForgets) {

@@ -1157,7 +1157,7 @@ TEST(ObserverMode, AGeneratorSpeedFaultIsNamedRightThoughItsRecordBeganBeforeThe
       }
     return counted;
   };
-  const Counted restarted = run(100.0), kept = run(0.0);
+  const Counted restarted = run(config(Mode::kObserver).type_misfit_max), kept = run(0.0);
   std::printf("[measured] right first: %d of %d restarting a record that misfits, %d of %d keeping it\n",
               restarted.right, restarted.runs, kept.right, kept.runs);
   // AND keeping the record (type_misfit_max 0) names some of them wrong: the cases exercise the restart
