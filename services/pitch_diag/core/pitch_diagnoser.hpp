@@ -41,6 +41,9 @@ struct PitchDiagConfig {
                                  ///< goes past the pump-wear signature (leak) or stays at it for
                                  ///< shared_settle_time (pump wear). Slower: a developing leak
   double shared_settle_time = 8.0;  ///< s of excited data at the pump-wear point that settle a ramp as it
+  double abrupt_unseen_max = 2.0;   ///< s of sample time without a decision between leaving healthy and
+                                    ///< reaching the pump-wear point: more, and the data did not see how the
+                                    ///< blade got there; the crossing is a ramp, not abrupt
   double shared_alpha = 0.8;  ///< alpha on the shorter (pump-wear) path that counts as reaching its point
   double short_max_alpha =
       1.15;  ///< alpha on the shorter path beyond which a point not yet raised as that fault
@@ -159,6 +162,8 @@ class BladeDiagnoser {
   double shared_reached_after_ = -1.0;  // that excited time when it first reached the pump-wear point
   double half_reached_after_ = -1.0;    // and when it first reached half of shared_alpha
   double settled_at_short_ = 0.0;       // s of excited data since then at the pump-wear point
+  double unseen_since_healthy_ = 0.0;   // s of sample time without a decision between leaving healthy and
+                                        // reaching the pump-wear point
   bool decided_ = false;
 };
 

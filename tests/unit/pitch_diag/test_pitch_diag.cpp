@@ -377,6 +377,64 @@ TEST(PitchDiagnoser, ARampIsNamedByWhereItGoesPumpWearOver30sAndALeakOver30s) {
     }
 }
 
+TEST(PitchDiagnoser, ACrossingTheEstimateWasHeldThroughIsARampNotAbrupt) {
+  // GIVEN blade 1's reference standing still for 2.5 s of every 4 s over 16 s (the estimate held: no
+  // excitation) while its actuator moves along the shared path: a leak ramped in over 30 s from 40 s, stills
+  // from 42 s (judged suite set 178: at 8 % turbulence the estimate was held 2.9-4.0 s on its way from
+  // healthy, caught up at the pump-wear point in 2 s and was named pump_wear); or an abrupt pump wear at 40
+  // s, stills from 41 s. 0.2 deg noise, 12 seeds
+  const auto& h = table1("none");
+  struct Case {
+    const char* fault;
+    double ramp, still_from;
+  };
+  auto first_event = [&](const PitchDiagConfig& config, const Case& c, int seed) {
+    Rig rig(config, 0.2, 700 + static_cast<uint64_t>(seed));
+    const auto& f = table1(c.fault);
+    const double t_on = 40.0;
+    double still = 0.0;
+    rig.run(
+        110.0,
+        [&](double t, int b) {
+          if (b != 0 || t < t_on) return h;
+          const double alpha = c.ramp > 0.0 ? std::min(1.0, (t - t_on) / c.ramp) : 1.0;
+          return Signature{"", h.omega_n + alpha * (f.omega_n - h.omega_n),
+                           h.zeta + alpha * (f.zeta - h.zeta)};
+        },
+        [&](FrameSample& s) {
+          const double since = s.t - c.still_from;
+          if (since >= 0.0 && since < 16.0 && std::fmod(since, 4.0) < 2.5)
+            s.pitch_ref[0] = still;
+          else
+            still = s.pitch_ref[0];
+        });
+    return rig.events.empty() ? FaultEvent{} : rig.events.front();
+  };
+  const Case ramped_leak{"hydraulic_leakage", 30.0, 42.0}, pump_wear{"pump_wear", 0.0, 41.0};
+  PitchDiagConfig unseen_ignored;
+  unseen_ignored.abrupt_unseen_max = 1e9;
+  int leak_first = 0, leak_first_ignored = 0;
+  for (int seed = 0; seed < 12; ++seed) {
+    const FaultEvent leak = first_event(PitchDiagConfig{}, ramped_leak, seed);
+    const FaultEvent ignored = first_event(unseen_ignored, ramped_leak, seed);
+    const FaultEvent wear = first_event(PitchDiagConfig{}, pump_wear, seed);
+    std::printf(
+        "[measured] seed %d: ramped leak first %s at %.1f s (held time ignored: %s), abrupt pump wear %s "
+        "at %.1f s\n",
+        seed, leak.fault.c_str(), leak.t, ignored.fault.c_str(), wear.fault.c_str(), wear.t);
+    leak_first += leak.component == "pitch_actuator_1" && leak.fault == "hydraulic_leakage";
+    leak_first_ignored += ignored.component == "pitch_actuator_1" && ignored.fault == "hydraulic_leakage";
+    // THEN the abrupt pump wear is still named pump wear (later where its crossing was held)
+    EXPECT_EQ(wear.component, "pitch_actuator_1") << "seed " << seed;
+    EXPECT_EQ(wear.fault, "pump_wear") << "seed " << seed << " at " << wear.t << ": " << wear.detail;
+  }
+  // AND the ramped leak is named a leak first in 10 of 12, 8 of 12 with the held time ignored. (The other
+  // two: the estimate looked healthy again after a still and jumped to the point with nothing held on its
+  // way, as a fault that appears during a hold does: the data cannot tell them apart.)
+  EXPECT_GE(leak_first, 10);
+  EXPECT_LE(leak_first_ignored, leak_first - 2);
+}
+
 TEST(PitchDiagnoser, APointPastThePumpWearSignatureIsTheLeak) {
   // GIVEN blade 3's dynamics jumping at 40 s to a point past the pump-wear signature on the shared path (pump
   // wear at alpha 1.2, leakage at 0.6: where the demo's estimate of an abrupt leak sat for 4 s), then on

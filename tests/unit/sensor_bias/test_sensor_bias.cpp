@@ -1151,8 +1151,9 @@ TEST(ObserverMode, AGeneratorSpeedFaultIsNamedRightThoughItsRecordBeganBeforeThe
         EXPECT_EQ(first->fault, expected) << size << " " << seed << ": " << first->detail;
         EXPECT_LE(first->t, 300.0 + 22.0);
         double estimated = 0.0;
-        if (gain && std::sscanf(first->detail.c_str(), "gain %lf", &estimated) == 1)
+        if (gain && std::sscanf(first->detail.c_str(), "gain %lf", &estimated) == 1) {
           EXPECT_NEAR(estimated, size, 0.01) << first->detail;
+        }
         if (first->fault == expected) ++counted.right;
       }
     return counted;
