@@ -23,6 +23,13 @@ inline const Signature& table1(const std::string& name) {
   return sig[0];
 }
 
+/// The point at `alpha` along the fault path from `healthy` to `fault`: h + alpha (f - h) (Wu & Li eqs
+/// 11-13).
+inline Signature along(const Signature& healthy, const Signature& fault, double alpha) {
+  return Signature{"", healthy.omega_n + alpha * (fault.omega_n - healthy.omega_n),
+                   healthy.zeta + alpha * (fault.zeta - healthy.zeta)};
+}
+
 struct SyntheticConfig {
   double T = 0.01;                      ///< s, sampling period
   double noise = 0.2;                   ///< deg, standard deviation of the pitch measurement noise

@@ -20,6 +20,7 @@ namespace {
 
 constexpr double kT = 0.01;
 
+using synth::along;
 using synth::table1;
 
 /// A turbine with three synthetic blades; `truth(t, blade)` gives (omega_n, zeta) of each actuator.
@@ -136,8 +137,8 @@ TEST(PitchModel, ClassifyGivesAlphaAlongEachPath) {
   // GIVEN points at alpha = 0.6 on the high-air-content path and at the Table 1 signatures
   const auto& h = table1("none");
   const auto& ha = table1("high_air_content");
-  Classification k =
-      classify(h.omega_n + 0.6 * (ha.omega_n - h.omega_n), h.zeta + 0.6 * (ha.zeta - h.zeta), c);
+  const Signature point = along(h, ha, 0.6);
+  Classification k = classify(point.omega_n, point.zeta, c);
   // THEN the class and alpha come back (1e-9), unambiguously
   EXPECT_EQ(k.fault_class, "high_air_content");
   EXPECT_NEAR(k.alpha, 0.6, 1e-9);
@@ -178,7 +179,8 @@ TEST(Identifier, DefaultModeConvergesNoiseFreeToTheTrueModel) {
   const auto& h = table1("none");
   for (const auto& f : table1_signatures())
     for (double alpha : {0.35, 1.0}) {
-      const double wn = h.omega_n + alpha * (f.omega_n - h.omega_n), z = h.zeta + alpha * (f.zeta - h.zeta);
+      const Signature point = along(h, f, alpha);
+      const double wn = point.omega_n, z = point.zeta;
       double ez;
       const double ew = converged_error(IdentifierConfig{}.method, wn, z, 0.0, ez);
       // THEN omega_n and zeta are within 1 %
@@ -329,7 +331,7 @@ TEST(PitchDiagnoser, HalfDevelopedLeakageIsReportedWithItsAlphaNotAsPumpWear) {
   rig.run(200.0, [&](double t, int b) {
     if (b != 1 || t < 30.0) return h;
     const double alpha = std::min(0.5, 0.5 * (t - 30.0) / 120.0);
-    return Signature{"", h.omega_n + alpha * (hl.omega_n - h.omega_n), h.zeta + alpha * (hl.zeta - h.zeta)};
+    return along(h, hl, alpha);
   });
   // THEN the estimate says hydraulic leakage at alpha 0.5 +- 0.1, and says that it is ambiguous with pump
   // wear
@@ -365,7 +367,7 @@ TEST(PitchDiagnoser, ARampIsNamedByWhereItGoesPumpWearOver30sAndALeakOver30s) {
       rig.run(t_on + ramp + 20.0, [&](double t, int b) {
         if (b != 0 || t < t_on) return h;
         const double alpha = std::min(1.0, (t - t_on) / ramp);
-        return Signature{"", h.omega_n + alpha * (f.omega_n - h.omega_n), h.zeta + alpha * (f.zeta - h.zeta)};
+        return along(h, f, alpha);
       });
       // THEN the first event names the fault, never the other reading, within 10 s of the ramp's end
       ASSERT_FALSE(rig.events.empty()) << fault << " seed " << seed;
@@ -398,8 +400,7 @@ TEST(PitchDiagnoser, ACrossingTheEstimateWasHeldThroughIsARampNotAbrupt) {
         [&](double t, int b) {
           if (b != 0 || t < t_on) return h;
           const double alpha = c.ramp > 0.0 ? std::min(1.0, (t - t_on) / c.ramp) : 1.0;
-          return Signature{"", h.omega_n + alpha * (f.omega_n - h.omega_n),
-                           h.zeta + alpha * (f.zeta - h.zeta)};
+          return along(h, f, alpha);
         },
         [&](FrameSample& s) {
           const double since = s.t - c.still_from;
@@ -441,8 +442,7 @@ TEST(PitchDiagnoser, APointPastThePumpWearSignatureIsTheLeak) {
   // to the full leak at 50 s; 0.2 deg noise
   const auto& h = table1("none");
   const auto& hl = table1("hydraulic_leakage");
-  const Signature overshoot{"", h.omega_n + 0.6 * (hl.omega_n - h.omega_n),
-                            h.zeta + 0.6 * (hl.zeta - h.zeta)};
+  const Signature overshoot = along(h, hl, 0.6);
   auto trajectory = [&](double t, int b) { return b != 2 || t < 40.0 ? h : t < 50.0 ? overshoot : hl; };
   Rig rig(PitchDiagConfig{}, 0.2, 43);
   rig.run(60.0, trajectory);
