@@ -35,6 +35,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "drift_significance",
                         "mean_drift_significance",
                         "min_drift_share",
+                        "drift_raise_needs_share",
                         "drift_window",
                         "drift_confirm_revolutions",
                         "learn_time",
@@ -60,6 +61,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "second_fault_model_witness",
                         "mean_model_witness",
                         "mean_model_witness_ratio",
+                        "mean_gauge_witness_share",
                         "robust_clip",
                         "abrupt_ratio",
                         "abrupt_lookback",
@@ -121,6 +123,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   d.drift_significance = y.get_number("drift_significance", d.drift_significance, 1e-12, 0.1);
   d.mean_drift_significance = y.get_number("mean_drift_significance", d.mean_drift_significance, 1e-12, 0.1);
   d.min_drift_share = y.get_number("min_drift_share", d.min_drift_share, 0.0, 0.5);
+  d.drift_raise_needs_share = y.get<bool>("drift_raise_needs_share", d.drift_raise_needs_share);
   d.drift_window = static_cast<int>(y.get_number("drift_window", d.drift_window, 2, 1000));
   d.drift_confirm_revolutions =
       static_cast<int>(y.get_number("drift_confirm_revolutions", d.drift_confirm_revolutions, 1, 100));
@@ -160,6 +163,8 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   d.mean_model_witness = y.get<bool>("mean_model_witness", d.mean_model_witness);
   d.mean_model_witness_ratio =
       y.get_number("mean_model_witness_ratio", d.mean_model_witness_ratio, 0.0, 10.0);
+  d.mean_gauge_witness_share =
+      y.get_number("mean_gauge_witness_share", d.mean_gauge_witness_share, 0.0, 10.0);
   l.robust_clip = y.get_number("robust_clip", l.robust_clip, 1.0, 100.0);
   d.abrupt_ratio = y.get_number("abrupt_ratio", d.abrupt_ratio, 0.0, 1.0);
   d.abrupt_lookback = static_cast<int>(y.get_number("abrupt_lookback", d.abrupt_lookback, 1, 20));

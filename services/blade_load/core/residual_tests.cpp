@@ -267,6 +267,7 @@ void ResidualTests::drift_test(bool lidar_ok) {
         B.drift_firing = true;
         B.drift_t = v;
         B.drift_channel = c;
+        B.drift_shift = wm[b][c];
       }
     }
     const bool same = B.drift_firing && B.drift_channel == last_channel && (B.drift_t > 0) == last_positive;
@@ -334,6 +335,17 @@ void ResidualTests::tick(double t, double revolution_time, const BladeChannels& 
         if (exceeds && c == kMeanChannel && c_.mean_model_witness &&
             other_model_residual_beyond(tv, b, c_.mean_model_witness_ratio * crit_[kModelChannel], true))
           exceeds = false;
+        if (exceeds && c == kMeanChannel && c_.mean_gauge_witness_share > 0.0) {
+          const double ratio_shift = x[b][c] - healthy_.at(b, c).mean;
+          const double gauge_shift =
+              healthy_.at(b, kRawMeanChannel).learned && std::isfinite(x[b][kRawMeanChannel])
+                  ? x[b][kRawMeanChannel] - healthy_.at(b, kRawMeanChannel).mean
+                  : kNaN;
+          // (Without the gauges' mean, NaN, the ratio is not witnessed either.)
+          if (!(gauge_shift * ratio_shift > 0.0 &&
+                std::fabs(gauge_shift) >= c_.mean_gauge_witness_share * std::fabs(ratio_shift)))
+            exceeds = false;
+        }
       }
       const int sign = v > 0 ? 1 : -1;
       if (!exceeds) {
@@ -382,8 +394,14 @@ void ResidualTests::blade_decision(int b, double t, bool outlier, bool outlier_c
   const bool active = outlier || drift_counts;
   // The moving-window test also reacts to a step (its window mean jumps): a step is the outlier test's to
   // classify, so the drift test raises only while the single-revolution values are still below threshold.
-  const bool by_drift = !outlier && drift_counts &&
-                        (B.drift_revolutions >= c_.drift_confirm_revolutions || B.raised == "sensor_drift");
+  // On the mean-load channels a drift is a shift of the load, not of t: the learned spread of a 10-revolution
+  // mean is too narrow where the start-up was calm (drift_raise_needs_share).
+  const bool mean_channel = B.drift_channel == kMeanChannel || B.drift_channel == kRawMeanChannel;
+  const bool sized =
+      !c_.drift_raise_needs_share || !mean_channel || std::fabs(B.drift_shift) >= c_.min_drift_share;
+  const bool by_drift =
+      !outlier && drift_counts &&
+      ((B.drift_revolutions >= c_.drift_confirm_revolutions && sized) || B.raised == "sensor_drift");
   const bool confirmed = outlier_confirmed || by_drift;
   std::string cls = "sensor_drift";
   if (outlier_confirmed) {
