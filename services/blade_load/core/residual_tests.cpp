@@ -201,6 +201,9 @@ void ResidualTests::drift_test(bool lidar_ok) {
     B.drift_firing = false;
     B.drift_channel = -1;
     double best = 0.0;
+    // The largest window-mean shift of the firing mean-load channels, by sign: the share a drift needs is
+    // read there, not only on the channel with the largest t (which is sometimes the one that moved less).
+    std::array<double, 2> mean_shift{};
     // Hysteresis as in the outlier test: a raised drift stays evidenced above the onset level. At the
     // critical value itself, one quiet revolution (4-5 s) read as the fault going away and coming back, and a
     // drift was renamed sensor_intermittent 40 s after its raise (suite seed 63). Only the run that raised
@@ -262,14 +265,15 @@ void ResidualTests::drift_test(bool lidar_ok) {
         if (reflection) continue;
         if (!second_fault_witnessed(dt, b, drift_crit_[kModelChannel], lidar_ok)) continue;
       }
+      if (mean) mean_shift[v > 0] = std::max(mean_shift[v > 0], std::fabs(wm[b][c]));
       if (std::fabs(v) / drift_crit_[c] > best) {
         best = std::fabs(v) / drift_crit_[c];
         B.drift_firing = true;
         B.drift_t = v;
         B.drift_channel = c;
-        B.drift_shift = wm[b][c];
       }
     }
+    if (B.drift_firing) B.drift_shift = mean_shift[B.drift_t > 0];
     const bool same = B.drift_firing && B.drift_channel == last_channel && (B.drift_t > 0) == last_positive;
     B.drift_revolutions = !B.drift_firing ? 0 : same ? B.drift_revolutions + 1 : 1;
   }

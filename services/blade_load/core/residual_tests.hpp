@@ -143,7 +143,7 @@ class ResidualTests {
     double drift_t = 0.0;
     int drift_channel = -1;
     int drift_revolutions = 0;  // consecutive revolutions the drift test fired on drift_channel, same sign
-    double drift_shift = 0.0;   // the firing channel's window-mean shift from healthy (share of the load)
+    double drift_shift = 0.0;   // largest firing mean-load shift from healthy, drift_t's sign (share of load)
     std::string raised;         // class raised, "" none (mirrors the classifier)
     int raised_direction = 0;   // +1: raised on the gauge reading high, -1: low (0: none, or unknown)
     EpisodeClassifier episode;
