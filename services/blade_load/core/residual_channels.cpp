@@ -83,8 +83,7 @@ double residual_size(const BladeEstimates& e, int b, int c) {
 
 double residual_share(const BladeEstimates& e, int b, int c) {
   if (c < 0) return 0.0;
-  const bool mean = c == kMeanChannel || c == kRawMeanChannel;
-  const double reference = std::fabs(avg_others(mean ? e.mean_sensor : e.a_sensor, b));
+  const double reference = std::fabs(avg_others(mean_load_channel(c) ? e.mean_sensor : e.a_sensor, b));
   return reference > 0.0 ? residual_size(e, b, c) / reference : std::numeric_limits<double>::quiet_NaN();
 }
 

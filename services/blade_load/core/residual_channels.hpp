@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 
 namespace windfdi::blade_load {
 
@@ -25,6 +26,13 @@ const char* channel_name(int c);
 /// +1 when a value v of channel c says the gauge reads high (above the model or the other gauges), -1 low:
 /// kModel is model minus sensor, every other channel sensor minus its reference.
 inline int reading_direction(int c, double v) { return (c == kModelChannel ? -v : v) > 0 ? 1 : -1; }
+/// The channels on mean loads (an offset or drift moves them; a constant added to a gauge leaves its first
+/// harmonic alone).
+inline bool mean_load_channel(int c) { return c == kMeanChannel || c == kRawMeanChannel; }
+/// A witness shift shares `shift`: the same sign and at least `share` of its size (false when either is NaN).
+inline bool shares_shift(double witness, double shift, double share) {
+  return witness * shift > 0.0 && std::fabs(witness) >= share * std::fabs(shift);
+}
 /// Every value NaN (not available).
 BladeChannels unavailable_channels();
 

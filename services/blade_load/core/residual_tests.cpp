@@ -214,14 +214,13 @@ void ResidualTests::drift_test(bool lidar_ok) {
       const bool same_run = B.raised == "sensor_drift" && c == last_channel && (v > 0) == last_positive;
       const double level = same_run ? c_.onset_ratio : 1.0;
       if (!std::isfinite(v)) continue;
-      const bool mean = c == kMeanChannel || c == kRawMeanChannel;
+      const bool mean = mean_load_channel(c);
       // A drifting gauge moves its mean load against the other gauges (kRawMean) and against the LIDAR model
       // (kMean) by the same share. Where only one of the two moves, it is the model's per-blade error (2 MW
       // rotor, 16 m/s: the normalised mean 1.3 % off for minutes, the gauges' own at 0.2 %) or the blades'
       // individual pitch above rated (16 m/s: the gauges' 1.7 % with the normalised one at 0).
       const int other = c == kMeanChannel ? kRawMeanChannel : kMeanChannel;
-      const bool agree = mean && std::isfinite(wm[b][other]) && wm[b][other] * wm[b][c] > 0 &&
-                         std::fabs(wm[b][other]) >= 0.5 * std::fabs(wm[b][c]);
+      const bool agree = mean && shares_shift(wm[b][other], wm[b][c], 0.5);
       // The mean-load channels also fire at the looser level on a shift of min_drift_share or more that the
       // other mean-load channel shares (without the LIDAR, the gauges' own alone).
       const bool sized = mean && std::fabs(v) > level * mean_drift_crit_[c] &&
@@ -346,9 +345,7 @@ void ResidualTests::tick(double t, double revolution_time, const BladeChannels& 
                   ? x[b][kRawMeanChannel] - healthy_.at(b, kRawMeanChannel).mean
                   : kNaN;
           // (Without the gauges' mean, NaN, the ratio is not witnessed either.)
-          if (!(gauge_shift * ratio_shift > 0.0 &&
-                std::fabs(gauge_shift) >= c_.mean_gauge_witness_share * std::fabs(ratio_shift)))
-            exceeds = false;
+          if (!shares_shift(gauge_shift, ratio_shift, c_.mean_gauge_witness_share)) exceeds = false;
         }
       }
       const int sign = v > 0 ? 1 : -1;
@@ -400,9 +397,8 @@ void ResidualTests::blade_decision(int b, double t, bool outlier, bool outlier_c
   // classify, so the drift test raises only while the single-revolution values are still below threshold.
   // On the mean-load channels a drift is a shift of the load, not of t: the learned spread of a 10-revolution
   // mean is too narrow where the start-up was calm (drift_raise_needs_share).
-  const bool mean_channel = B.drift_channel == kMeanChannel || B.drift_channel == kRawMeanChannel;
-  const bool sized =
-      !c_.drift_raise_needs_share || !mean_channel || std::fabs(B.drift_shift) >= c_.min_drift_share;
+  const bool sized = !c_.drift_raise_needs_share || !mean_load_channel(B.drift_channel) ||
+                     std::fabs(B.drift_shift) >= c_.min_drift_share;
   const bool by_drift =
       !outlier && drift_counts &&
       ((B.drift_revolutions >= c_.drift_confirm_revolutions && sized) || B.raised == "sensor_drift");
