@@ -391,7 +391,6 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
                            estimator_.last_power_step() >= cfg_.shed_power_step && iced;
     cp_candidate_ = candidate ? estimator_.last_power_step() : 0.0;
     cp_candidate_at_ = t;
-    cp_back_from_ = t;
     cp_kept_ = 0;
     cp_counted_ = 0;
   } else if (cp_candidate_ > 0.0 && static_cast<double>(since_step) >= step_window) {
@@ -404,9 +403,7 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
   // Each second of balance once: while the estimator is not fed (a suspect input, a stop) none is added.
   if (cp_candidate_ > 0.0 && since_step > cp_counted_) {
     cp_counted_ = since_step;
-    const bool kept = estimator_.balance_since_step() >= cfg_.shed_power_keep * cp_candidate_;
-    cp_kept_ = kept ? cp_kept_ + 1 : 0;
-    if (!kept) cp_back_from_ = t;
+    cp_kept_ = estimator_.balance_since_step() >= cfg_.shed_power_keep * cp_candidate_ ? cp_kept_ + 1 : 0;
   }
   const bool cp_recovered = cp_candidate_ > 0.0 && static_cast<double>(cp_kept_) >= cfg_.shed_power_confirm;
   if (shed_raised_at_ < 0.0 && (cp_recovered || inertia_fell)) {
@@ -422,12 +419,9 @@ void IceDetector::second(double t, std::vector<FaultEvent>& events) {
     else
       drop_test_.forget();
     // Dated when the fall first stood out: its window's onset only estimates the shedding's, and a report
-    // dated before a fault began belongs to none (the farm report's attribution). From the Cp, dated when
-    // the Cp that was kept came back: the step itself when the seconds after it kept it from the first, and
-    // otherwise the last second that had not. A gust's step that a shedding followed 17 s later (the
-    // medium-speed rotor of judged set 191, scenario 00) dated the shedding before it happened.
+    // dated before a fault began belongs to none (the farm report's attribution).
     FaultEvent e =
-        rotor_event("ice_shedding", true, "warning", t, inertia_fell ? shed_first_at_ : cp_back_from_);
+        rotor_event("ice_shedding", true, "warning", t, inertia_fell ? shed_first_at_ : cp_candidate_at_);
     char detail[200];
     if (!inertia_fell) {
       // Size from the Cp kept since the step (as first seen, the step is the threshold's, 1.0-1.3 %

@@ -131,7 +131,6 @@ class IceDetector {
   double shed_first_at_ = -1.0;    // the first of them
   double cp_candidate_ = 0.0;      // a step up of the calibration with ice reported, not yet kept (0: none)
   double cp_candidate_at_ = -1.0;  // when it was seen
-  double cp_back_from_ = -1.0;     // the last second whose balance since the step had not yet kept it
   int cp_kept_ = 0;                // seconds in a row since, the balance since the step held the step
   std::size_t cp_counted_ = 0;     // the last second of balance since the step counted in cp_kept_
   std::deque<double> scale_history_;  // the calibration at each of the last seconds (the drop test's windows)

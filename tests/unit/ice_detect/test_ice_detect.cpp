@@ -454,8 +454,7 @@ TEST(IceDetector, SheddingOfIceThatWasThereIsFlaggedWithinAMinute) {
     EXPECT_NE(e->detail.find("power coefficient up"), std::string::npos) << e->detail;
     EXPECT_EQ(shedding_raised(cp, 0.0, 700.0), nullptr) << describe(cp);
     // ... sized from the Cp the seconds after the step kept (as first seen, the step read 1.1-1.3 % of Cp,
-    // about 550 kg), dated when that Cp came back (at the step, or the last second after it that had not kept
-    // it)
+    // about 550 kg), dated when the step was seen
     std::printf("[measured] Cp witness, %g m/s seed %d: raised %.0f s after the drop, dated %.0f s: %s\n",
                 wind, seed, e->t - 700.0, e->t_detected - 700.0, e->detail.c_str());
     EXPECT_NEAR(e->size, 1200.0, 400.0) << e->detail;
