@@ -36,6 +36,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "mean_drift_significance",
                         "min_drift_share",
                         "drift_raise_needs_share",
+                        "drift_median_share",
                         "drift_window",
                         "drift_confirm_revolutions",
                         "learn_time",
@@ -68,6 +69,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "abrupt_span",
                         "ramp_revolutions",
                         "held_step_share",
+                        "step_after_quiet",
                         "return_time",
                         "intermittent_window",
                         "clear_time",
@@ -124,6 +126,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   d.mean_drift_significance = y.get_number("mean_drift_significance", d.mean_drift_significance, 1e-12, 0.1);
   d.min_drift_share = y.get_number("min_drift_share", d.min_drift_share, 0.0, 0.5);
   d.drift_raise_needs_share = y.get<bool>("drift_raise_needs_share", d.drift_raise_needs_share);
+  d.drift_median_share = y.get_number("drift_median_share", d.drift_median_share, 0.0, 2.0);
   d.drift_window = static_cast<int>(y.get_number("drift_window", d.drift_window, 2, 1000));
   d.drift_confirm_revolutions =
       static_cast<int>(y.get_number("drift_confirm_revolutions", d.drift_confirm_revolutions, 1, 100));
@@ -171,6 +174,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   d.abrupt_span = static_cast<int>(y.get_number("abrupt_span", d.abrupt_span, 1, 10));
   d.ramp_revolutions = static_cast<int>(y.get_number("ramp_revolutions", d.ramp_revolutions, 0, 10));
   d.held_step_share = y.get_number("held_step_share", d.held_step_share, 0.0, 1.0);
+  d.step_after_quiet = y.get<bool>("step_after_quiet", d.step_after_quiet);
   EpisodeConfig& e = c.episode;
   e.return_time = y.get_number("return_time", e.return_time, 0.1, 3600.0);
   e.intermittent_window = y.get_number("intermittent_window", e.intermittent_window, 1.0, 86400.0);
