@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "frame_sample.hpp"
 
@@ -171,6 +172,8 @@ void ResidualTests::drift_test(bool lidar_ok) {
   for (auto& r : wm) r.fill(kNaN);
   for (auto& r : median) r.fill(kNaN);
   const int W = c_.drift_window;
+  std::vector<double> finite;  // one channel's window, for its median
+  finite.reserve(static_cast<std::size_t>(W));
   for (int b = 0; b < 3; ++b) {
     const BladeState& B = blades_[b];
     if (static_cast<int>(B.history.size()) < W) continue;
@@ -190,15 +193,15 @@ void ResidualTests::drift_test(bool lidar_ok) {
         wm[b][c] = sum / m - h.mean;
       }
       // The window's median (the lower middle value of an even count).
-      std::array<double, 64> finite{};
-      int k = 0;
-      for (int i = 0; i < W && k < static_cast<int>(finite.size()); ++i) {
+      finite.clear();
+      for (int i = 0; i < W; ++i) {
         const double v = B.history[B.history.size() - 1 - i][c];
-        if (std::isfinite(v)) finite[static_cast<std::size_t>(k++)] = v;
+        if (std::isfinite(v)) finite.push_back(v);
       }
-      if (k > 0) {
-        std::nth_element(finite.begin(), finite.begin() + (k - 1) / 2, finite.begin() + k);
-        median[b][c] = finite[static_cast<std::size_t>((k - 1) / 2)] - h.mean;
+      if (!finite.empty()) {
+        const auto middle = finite.begin() + static_cast<std::ptrdiff_t>((finite.size() - 1) / 2);
+        std::nth_element(finite.begin(), middle, finite.end());
+        median[b][c] = *middle - h.mean;
       }
     }
   }
