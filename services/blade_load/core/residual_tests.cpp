@@ -3,12 +3,31 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <vector>
 
 #include "frame_sample.hpp"
 
 namespace windfdi::blade_load {
+
+namespace {
+
+// The lower middle of the finite values of channel c over the newest `window` revolutions (NaN: none).
+double window_median(const std::deque<std::array<double, kChannels>>& history, int c, int window) {
+  std::vector<double> finite;
+  finite.reserve(static_cast<std::size_t>(window));
+  for (int i = 0; i < window && i < static_cast<int>(history.size()); ++i) {
+    const double v = history[history.size() - 1 - static_cast<std::size_t>(i)][static_cast<std::size_t>(c)];
+    if (std::isfinite(v)) finite.push_back(v);
+  }
+  if (finite.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const auto middle = finite.begin() + static_cast<std::ptrdiff_t>((finite.size() - 1) / 2);
+  std::nth_element(finite.begin(), middle, finite.end());
+  return *middle;
+}
+
+}  // namespace
 
 ResidualTests::ResidualTests(const DetectionConfig& detection, const LearningConfig& learning,
                              const EpisodeConfig& episode)
@@ -167,13 +186,10 @@ void ResidualTests::revolution(double t, double revolution_time, const BladeChan
 
 void ResidualTests::drift_test(bool lidar_ok) {
   // Moving-window mean test (drift), once per revolution on non-overlapping windows.
-  BladeChannels dt{}, wm{}, drift_unit{}, median{};
+  BladeChannels dt{}, wm{}, drift_unit{};
   for (auto& r : dt) r.fill(kNaN);
   for (auto& r : wm) r.fill(kNaN);
-  for (auto& r : median) r.fill(kNaN);
   const int W = c_.drift_window;
-  std::vector<double> finite;  // one channel's window, for its median
-  finite.reserve(static_cast<std::size_t>(W));
   for (int b = 0; b < 3; ++b) {
     const BladeState& B = blades_[b];
     if (static_cast<int>(B.history.size()) < W) continue;
@@ -191,17 +207,6 @@ void ResidualTests::drift_test(bool lidar_ok) {
         dt[b][c] = h.drift_t(sum / m, m);
         drift_unit[b][c] = h.drift_sd(m);
         wm[b][c] = sum / m - h.mean;
-      }
-      // The window's median (the lower middle value of an even count).
-      finite.clear();
-      for (int i = 0; i < W; ++i) {
-        const double v = B.history[B.history.size() - 1 - i][c];
-        if (std::isfinite(v)) finite.push_back(v);
-      }
-      if (!finite.empty()) {
-        const auto middle = finite.begin() + static_cast<std::ptrdiff_t>((finite.size() - 1) / 2);
-        std::nth_element(finite.begin(), middle, finite.end());
-        median[b][c] = *middle - h.mean;
       }
     }
   }
@@ -290,9 +295,11 @@ void ResidualTests::drift_test(bool lidar_ok) {
     }
     if (B.drift_firing) {
       B.drift_shift = mean_shift[B.drift_t > 0];
+      // Only the firing channel's median is needed, once a revolution.
       const int c = B.drift_channel;
-      B.drift_spread =
-          c_.drift_median_share <= 0.0 || shares_shift(median[b][c], wm[b][c], c_.drift_median_share);
+      B.drift_spread = c_.drift_median_share <= 0.0 ||
+                       shares_shift(window_median(B.history, c, W) - healthy_.at(b, c).mean, wm[b][c],
+                                    c_.drift_median_share);
     }
     const bool same = B.drift_firing && B.drift_channel == last_channel && (B.drift_t > 0) == last_positive;
     B.drift_revolutions = !B.drift_firing ? 0 : same ? B.drift_revolutions + 1 : 1;
