@@ -138,11 +138,12 @@ DesignInput load_design_input(const YamlSection& s) {
     in.alpha = s.require_number("alpha", 1e-12, 1.0 - 1e-12);
   }
   const YamlSection a = s.section("alpha_search");
-  a.require_known_keys({"min", "max", "grid", "refine"});
+  a.require_known_keys({"min", "max", "grid", "refine", "bias_bound_ratio"});
   in.search.min = a.get_number("min", in.search.min, 1e-12, 0.999999);
   in.search.max = a.get_number("max", in.search.max, in.search.min, 0.999999);
   in.search.grid = static_cast<int>(a.get_number("grid", in.search.grid, 2, 1000));
   in.search.refine = static_cast<int>(a.get_number("refine", in.search.refine, 0, 100));
+  in.search.bias_bound_ratio = a.get_number("bias_bound_ratio", in.search.bias_bound_ratio, 0.0, 1e6);
   if (s.has("model")) {
     for (const char* k : {"A", "B", "C", "W1", "W2"})
       if (s.has(k)) throw s.error(k, "give either 'model' or explicit matrices, not both");

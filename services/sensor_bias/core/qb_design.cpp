@@ -431,21 +431,35 @@ QbSolution qb_design(const QbProblem& q, const AlphaSearch& s) {
         "no alpha in (0, 1) can work: the bound 1 - rho(A)^2 is " + std::to_string(qb_alpha_upper_bound(q));
     return none;
   }
-  auto value = [&](const QbSolution& x) {
-    return !x.feasible ? -1e300 : (q.objective == QbObjective::kTrace ? x.trace : x.margin);
-  };
   int solves = 0;
+  std::vector<double> grid;
+  std::vector<QbSolution> on_grid;
+  for (int i = 0; i < s.grid; ++i) {
+    grid.push_back(std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / (s.grid - 1)));
+    on_grid.push_back(qb_solve(q, grid.back()));
+    solves += on_grid.back().solves;
+  }
+  const auto largest_bias_bound = [](const QbSolution& x) {
+    return x.bias_bound.size() ? x.bias_bound.maxCoeff() : 0.0;
+  };
+  double smallest_bias_bound = 1e300;
+  for (const QbSolution& x : on_grid)
+    if (x.feasible && x.bias_bound.size())
+      smallest_bias_bound = std::min(smallest_bias_bound, largest_bias_bound(x));
+  const auto admitted = [&](const QbSolution& x) {
+    return s.bias_bound_ratio <= 0.0 || !x.bias_bound.size() ||
+           largest_bias_bound(x) <= s.bias_bound_ratio * smallest_bias_bound;
+  };
+  auto value = [&](const QbSolution& x) {
+    return !x.feasible || !admitted(x) ? -1e300 : (q.objective == QbObjective::kTrace ? x.trace : x.margin);
+  };
   QbSolution best;
   best.message =
       "infeasible for every alpha tried in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
   int best_i = -1;
-  std::vector<double> grid;
-  for (int i = 0; i < s.grid; ++i)
-    grid.push_back(std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / (s.grid - 1)));
   for (int i = 0; i < s.grid; ++i) {
-    QbSolution x = qb_solve(q, grid[static_cast<std::size_t>(i)]);
-    solves += x.solves;
-    if (x.feasible && (best_i < 0 || value(x) > value(best))) {
+    const QbSolution& x = on_grid[static_cast<std::size_t>(i)];
+    if (x.feasible && admitted(x) && (best_i < 0 || value(x) > value(best))) {
       best = x;
       best_i = i;
     }

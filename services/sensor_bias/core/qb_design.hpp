@@ -72,8 +72,13 @@ struct AlphaSearch {
   double max = 0.999;
   int grid = 24;    ///< log-spaced grid points
   int refine = 12;  ///< golden-section steps around the best grid point
+  /// Only alphas whose largest bias bound is within this factor of the grid's smallest take part (0: all).
+  /// The trace can peak twice over alpha, and its far peak can be a fast observer whose bias bound, the
+  /// quantity the service relies on, is twenty times the near peak's.
+  double bias_bound_ratio = 2.0;
 };
-/// Searches alpha (log grid, then golden section) for the largest objective (trace or margin).
+/// Searches alpha (log grid, then golden section) for the largest objective (trace or margin) among the
+/// alphas `bias_bound_ratio` admits.
 QbSolution qb_design(const QbProblem& q, const AlphaSearch& s = {});
 
 }  // namespace windfdi::sensor_bias

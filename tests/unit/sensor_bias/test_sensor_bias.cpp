@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <random>
 
 #include "bias_estimator.hpp"
@@ -272,6 +273,42 @@ TEST(QbDesign, ShippedGainsAreCertifiedAndReproducible) {
     EXPECT_LT(g.closed_loop_radius, 1.0) << name;
     EXPECT_LT((g.A - in.problem.A).norm(), 1e-9 * (1 + in.problem.A.norm())) << name;
   }
+}
+
+TEST(QbDesign, ASlowerActuatorsPitchObserverIsDesignedAtTheTracesNearPeakNotItsFarOne) {
+  // GIVEN the shipped pitch-observer design made for turbines whose healthy actuator is slower than the
+  // benchmark's 11.11 rad/s (a 6 MW rotor's larger blades)
+  const std::string design = kDeploy + "/sensor_bias/design_pitch_observer.yaml";
+  for (const double omega_n : {6.0, 8.0, 9.0}) {
+    const std::string turbine = ::testing::TempDir() + "slow_actuator_" + std::to_string(omega_n) + ".yaml";
+    {
+      std::ofstream f(turbine);
+      f << "pitch_omega_n: " << omega_n << "\npitch_zeta: 0.65\n";
+    }
+    DesignInput in = design_for_turbine(design, turbine);
+    // WHEN alpha is searched as shipped
+    const QbSolution sol = qb_design(in.problem, in.search);
+    ASSERT_TRUE(sol.feasible) << sol.message;
+    // THEN the observer is a slow one like the benchmark's (alpha 0.09, radius 0.91), whose bias bound is a
+    // few degrees
+    EXPECT_LT(sol.alpha, 0.2) << omega_n;
+    EXPECT_GT(sol.closed_loop_radius, 0.8) << omega_n;
+    EXPECT_LT(sol.bias_bound.maxCoeff(), 3.5) << omega_n;
+    // AND by the trace alone it was the far peak at the search's end: a fast observer whose bias bound is
+    // tens of degrees (a 6 MW turbine's pitch biases were missed and its bias estimates jumped by 8 deg)
+    in.search.bias_bound_ratio = 0.0;
+    const QbSolution by_trace = qb_design(in.problem, in.search);
+    EXPECT_GT(by_trace.alpha, 0.4) << omega_n;
+    EXPECT_GT(by_trace.bias_bound.maxCoeff(), 10.0) << omega_n;
+    std::printf(
+        "[ measured ] omega_n %.0f: alpha %.3f, bias bound %.2f deg (trace alone: alpha %.3f, %.1f deg)\n",
+        omega_n, sol.alpha, sol.bias_bound.maxCoeff(), by_trace.alpha, by_trace.bias_bound.maxCoeff());
+    std::remove(turbine.c_str());
+  }
+  // AND the benchmark's actuator still gets the shipped gain's alpha
+  const DesignInput bench = load_design_input_file(design);
+  EXPECT_NEAR(qb_design(bench.problem, bench.search).alpha,
+              load_gain_file(kDeploy + "/sensor_bias/gains_pitch_observer.yaml").alpha, 1e-6);
 }
 
 // ---------------------------------------------------------------- observability of the augmented pairs
