@@ -65,6 +65,11 @@ struct PitchDiagConfig {
   double max_tracking_error = 5.0;  ///< deg; |reference - pitch| above it means the actuator is at its rate
                                     ///< limit (a safe stop's jump to feather): the linear model does not hold
                                     ///< and nothing is identified. Healthy lag 1 deg at 10 deg/s; 0 disables
+  bool turbine_rate_limit = true;   ///< the bank's models saturate at the turbine file's pitch_rate_limit as
+                                    ///< the valve does, not only at the arbiter's derate: a healthy 8 deg/s
+                                    ///< actuator's ramp after a 5 deg step of its reference read as
+                                    ///< high_air_content
+  double pitch_rate_limit = 10.0;   ///< deg/s, the turbine file's (set from it)
   double startup_settle = 30.0;     ///< s of sample time after the first sample (a start or a restart on a
                                     ///< running turbine) and after a sequence gap before any class counts
                                     ///< towards confirmation: the bank's evidence is still young (a healthy

@@ -735,6 +735,43 @@ TEST(PitchDiagnoser, RaisesAfterConfirmationAndClearsWithHysteresis) {
 
 YamlSection yaml(const std::string& text) { return YamlSection(YAML::Load(text), "test.yaml"); }
 
+TEST(PitchDiagnoser, AHealthyActuatorAtItsTurbinesRateLimitIsNoFault) {
+  // GIVEN a turbine whose healthy actuator (9 rad/s, 0.65) runs into its 8 deg/s rate limit when the
+  // reference steps by 4.5 deg (a controller's answer to a speed sensor coming back), every 15 s on top of
+  // the slow swing and turbulence, and the shipped configuration loaded for that turbine
+  TurbineParams turbine;
+  turbine.pitch_omega_n = 9.0;
+  turbine.pitch_zeta = 0.65;
+  turbine.pitch_rate_limit = 8.0;
+  const YamlSection shipped = YamlSection::load_file(PITCH_DIAG_YAML);
+  synth::SyntheticConfig profile;
+  profile.rate_limit = turbine.pitch_rate_limit;
+  const auto own = [&](double, int) { return Signature{"none", turbine.pitch_omega_n, turbine.pitch_zeta}; };
+  const auto steps = [](FrameSample& s) {
+    const double jump = std::fmod(s.t, 30.0) < 15.0 ? 0.0 : 4.5;
+    for (int i = 0; i < 3; ++i) s.pitch_ref[i] += jump;
+  };
+  int with_limit = 0, without = 0;
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    // WHEN ten minutes are judged with the bank's models saturating at the turbine's rate limit, and without
+    Rig limited(load_pitch_diag_config(shipped, turbine), profile, seed);
+    limited.run(600.0, own, steps);
+    PitchDiagConfig linear_config = load_pitch_diag_config(shipped, turbine);
+    linear_config.turbine_rate_limit = false;
+    Rig linear(linear_config, profile, seed);
+    linear.run(600.0, own, steps);
+    for (const auto& e : limited.events) with_limit += e.raised;
+    for (const auto& e : linear.events) without += e.raised;
+  }
+  std::printf(
+      "[ measured ] 8 deg/s actuator, 30 min of 4.5 deg reference steps: %d raises with its rate limit, "
+      "%d with linear models\n",
+      with_limit, without);
+  // THEN nothing is raised, where the linear models read the rate-limited ramps as a slow actuator
+  EXPECT_EQ(with_limit, 0);
+  EXPECT_GT(without, 0);
+}
+
 TEST(PitchDiagConfig, DefaultsAndShippedFileLoad) {
   // GIVEN an empty section THEN the defaults: bank, lambda 0.97, p 8, Table 1
   const PitchDiagConfig c = load_pitch_diag_config(yaml("{}"));
