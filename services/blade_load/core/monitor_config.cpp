@@ -70,6 +70,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "ramp_revolutions",
                         "held_step_share",
                         "step_after_quiet",
+                        "quiet_step_strength",
                         "return_time",
                         "intermittent_window",
                         "clear_time",
@@ -175,6 +176,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   d.ramp_revolutions = static_cast<int>(y.get_number("ramp_revolutions", d.ramp_revolutions, 0, 10));
   d.held_step_share = y.get_number("held_step_share", d.held_step_share, 0.0, 1.0);
   d.step_after_quiet = y.get<bool>("step_after_quiet", d.step_after_quiet);
+  d.quiet_step_strength = y.get_number("quiet_step_strength", d.quiet_step_strength, 0.0, 100.0);
   EpisodeConfig& e = c.episode;
   e.return_time = y.get_number("return_time", e.return_time, 0.1, 3600.0);
   e.intermittent_window = y.get_number("intermittent_window", e.intermittent_window, 1.0, 86400.0);

@@ -104,6 +104,12 @@ struct DetectionConfig {
   /// the excursion): a ramp only grows, and that is an earlier episode that ended (an intermittent gauge's
   /// burst unseen in a lull, which read as a ramp and named the next burst sensor_drift). false: as before
   bool step_after_quiet = true;
+  /// step_after_quiet with only the one revolution before the newest back below the onset level, when the
+  /// earlier revolution stood at this multiple of the critical value (0: off). Between an intermittent
+  /// gauge's bursts 14 s apart, rotors of 4.5-5.6 s a revolution (the 1.5 and 6 MW examples) have one quiet
+  /// revolution, the ones either side holding the bursts' edges; their bursts stood at 2.4 and 6.4 times the
+  /// critical value, a ramp's noisy revolutions at up to 1.2 before a dip below the onset level.
+  double quiet_step_strength = 2.0;
   double held_step_share = 0.06;  ///< when most of those revolutions were held (a pitch or speed fault): a
                                   ///< step if the excursion is at least this share of the other blades'
                                   ///< reading (the smallest specified step is a 10 % gain), else a drift

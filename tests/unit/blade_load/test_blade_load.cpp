@@ -1085,6 +1085,46 @@ TEST(ResidualTests, AnIntermittentGaugesBurstInALullIsNoDriftAndItsNextBurstIsAb
   }
 }
 
+// An intermittent gauge on a slow rotor (judged in stop 61 on the 6 and 1.5 MW examples: 6 s bursts 14 s
+// apart, revolutions of 4.5-5.6 s): a burst covers two revolutions, the second partly, and one quiet
+// revolution lies between bursts. The first burst falls in a lull (held). Returns the classes raised on
+// blade 1, in order.
+std::vector<std::string> run_intermittent_one_quiet_revolution(double quiet_step_strength, unsigned seed) {
+  DetectionConfig d;
+  d.quiet_step_strength = quiet_step_strength;
+  SyntheticRotor rotor(d, seed);
+  const double revolution_time = 5.6, sd = 0.0015;
+  const int first_burst = 100;
+  std::vector<std::string> raised;
+  for (int k = 0; k < 130; ++k) {
+    BladeChannels x = rotor.noise.draw(sd);
+    const int phase = k >= first_burst ? (k - first_burst) % 3 : -1;
+    if (phase == 0 || phase == 1)
+      for (const int c : {kMeanChannel, kRawMeanChannel}) shift_blade_1(x, c, phase == 0 ? 0.15 : 0.08);
+    const bool lull = k == first_burst || k == first_burst + 1;
+    for (const auto& ev : rotor.turn(k * revolution_time, revolution_time, x, lull))
+      if (ev.raised && ev.component == "blade_moment_sensor_1") raised.push_back(ev.fault);
+  }
+  return raised;
+}
+
+TEST(ResidualTests, AnIntermittentGaugeWithOneQuietRevolutionBetweenBurstsIsNoDrift) {
+  for (unsigned seed = 1; seed <= 10; ++seed) {
+    // Stop 60's rule asked for two quiet revolutions before the newest: the second burst was named a drift
+    // (its span held the first burst, which read as a ramp)
+    const auto two_quiet = run_intermittent_one_quiet_revolution(0.0, seed);
+    ASSERT_FALSE(two_quiet.empty()) << seed;
+    EXPECT_EQ(two_quiet.front(), "sensor_drift") << seed;
+    // Now one quiet revolution after a burst of twice the critical value or more is an episode that ended:
+    // sensor_abrupt, renamed sensor_intermittent when it comes back, never a drift
+    const auto now = run_intermittent_one_quiet_revolution(2.0, seed);
+    ASSERT_GE(now.size(), 2u) << seed;
+    EXPECT_EQ(now[0], "sensor_abrupt") << seed;
+    EXPECT_EQ(now[1], "sensor_intermittent") << seed;
+    EXPECT_EQ(std::count(now.begin(), now.end(), "sensor_drift"), 0) << seed;
+  }
+}
+
 // The outlier test on synthetic residuals: healthy noise learned, then blade 1's LIDAR residual steps by 15
 // learned deviations, its cross-blade model residual the other way. With `gauge_fault` its gauge reads high
 // (its amplitude against the other gauges' moves too); without it the LIDAR model is off on that blade alone
