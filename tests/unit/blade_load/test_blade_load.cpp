@@ -1040,6 +1040,23 @@ TEST(ResidualTests, AMeanLoadExcursionBelowTheDriftShareIsNoDriftHoweverLargeIts
   EXPECT_LE(with_share.ramp_shift_at_raise, 0.015);
 }
 
+// Blade 1's mean-load channels (healthy noise 0.0015) shifted by burst(k) on revolution k, the outlier test
+// held through the revolutions lull(k) names; the classes raised on blade 1, in order.
+std::vector<std::string> run_bursts(const DetectionConfig& d, unsigned seed, double revolution_time,
+                                    const std::function<double(int)>& burst,
+                                    const std::function<bool(int)>& lull) {
+  SyntheticRotor rotor(d, seed);
+  std::vector<std::string> raised;
+  for (int k = 0; k < 130; ++k) {
+    BladeChannels x = rotor.noise.draw(0.0015);
+    if (const double shift = burst(k); shift != 0.0)
+      for (const int c : {kMeanChannel, kRawMeanChannel}) shift_blade_1(x, c, shift);
+    for (const auto& ev : rotor.turn(k * revolution_time, revolution_time, x, lull(k)))
+      if (ev.raised && ev.component == "blade_moment_sensor_1") raised.push_back(ev.fault);
+  }
+  return raised;
+}
+
 // An intermittent gauge on synthetic mean-load residuals (learned spread 0.15 % of the load): blade 1 reads
 // 15 % high for one revolution in every five (4 s revolutions, 20 s period, as the suite's 30 % duty), the
 // first burst in a lull, which holds the outlier test but not the drift test. Returns the classes raised on
@@ -1048,19 +1065,10 @@ std::vector<std::string> run_intermittent_in_a_lull(bool drift_median, bool step
   DetectionConfig d;
   d.drift_median_share = drift_median ? 0.5 : 0.0;
   d.step_after_quiet = step_after_quiet;
-  SyntheticRotor rotor(d, seed);
-  const double revolution_time = 4.0, sd = 0.0015;
   const int first_burst = 100;
-  std::vector<std::string> raised;
-  for (int k = 0; k < 130; ++k) {
-    BladeChannels x = rotor.noise.draw(sd);
-    const bool burst = k >= first_burst && (k - first_burst) % 5 == 0;
-    if (burst)
-      for (const int c : {kMeanChannel, kRawMeanChannel}) shift_blade_1(x, c, 0.15);
-    for (const auto& ev : rotor.turn(k * revolution_time, revolution_time, x, k == first_burst))
-      if (ev.raised && ev.component == "blade_moment_sensor_1") raised.push_back(ev.fault);
-  }
-  return raised;
+  return run_bursts(
+      d, seed, 4.0, [&](int k) { return k >= first_burst && (k - first_burst) % 5 == 0 ? 0.15 : 0.0; },
+      [&](int k) { return k == first_burst; });
 }
 
 TEST(ResidualTests, AnIntermittentGaugesBurstInALullIsNoDriftAndItsNextBurstIsAbrupt) {
@@ -1092,20 +1100,13 @@ TEST(ResidualTests, AnIntermittentGaugesBurstInALullIsNoDriftAndItsNextBurstIsAb
 std::vector<std::string> run_intermittent_one_quiet_revolution(double quiet_step_strength, unsigned seed) {
   DetectionConfig d;
   d.quiet_step_strength = quiet_step_strength;
-  SyntheticRotor rotor(d, seed);
-  const double revolution_time = 5.6, sd = 0.0015;
   const int first_burst = 100;
-  std::vector<std::string> raised;
-  for (int k = 0; k < 130; ++k) {
-    BladeChannels x = rotor.noise.draw(sd);
-    const int phase = k >= first_burst ? (k - first_burst) % 3 : -1;
-    if (phase == 0 || phase == 1)
-      for (const int c : {kMeanChannel, kRawMeanChannel}) shift_blade_1(x, c, phase == 0 ? 0.15 : 0.08);
-    const bool lull = k == first_burst || k == first_burst + 1;
-    for (const auto& ev : rotor.turn(k * revolution_time, revolution_time, x, lull))
-      if (ev.raised && ev.component == "blade_moment_sensor_1") raised.push_back(ev.fault);
-  }
-  return raised;
+  const auto phase = [&](int k) { return k >= first_burst ? (k - first_burst) % 3 : -1; };
+  return run_bursts(
+      d, seed, 5.6, [&](int k) { return phase(k) == 0   ? 0.15
+                                        : phase(k) == 1 ? 0.08
+                                                        : 0.0; },
+      [&](int k) { return k == first_burst || k == first_burst + 1; });
 }
 
 TEST(ResidualTests, AnIntermittentGaugeWithOneQuietRevolutionBetweenBurstsIsNoDrift) {
