@@ -56,6 +56,20 @@ python3 "$suite" run "$healthy/f2MW" --mode fast --work "$healthy/wf2MW" "${two_
 echo "== fault delays (multi-fault suite), example medium-speed 3 MW turbine"
 python3 "$suite" generate --seed 6 --count 10 --turbine-file "$turbine3" --out "$healthy/f3MW" >/dev/null
 python3 "$suite" run "$healthy/f3MW" --mode fast --work "$healthy/wf3MW" "${medium[@]}" | grep -v '^scenario_'
+# The examples written in stop 61 as turbines nobody had tuned on, by their turbine files alone.
+for example in 6MW 1.5MW; do
+  file=$top/deploy/turbine/example_$example.yaml
+  own=()
+  for service in blade_load drive_train ice_detect sensor_bias arbiter pitch_diag; do
+    own+=(--set "$service.turbine_file=$file")
+  done
+  echo "== healthy hours, example $example turbine"
+  python3 "$suite" generate --healthy --seed 5 --count 10 --turbine-file "$file" --out "$healthy/$example" >/dev/null
+  python3 "$suite" run "$healthy/$example" --mode fast --work "$healthy/w$example" "${own[@]}" | tail -n 6
+  echo "== fault delays (multi-fault suite), example $example turbine"
+  python3 "$suite" generate --seed 6 --count 10 --turbine-file "$file" --out "$healthy/f$example" >/dev/null
+  python3 "$suite" run "$healthy/f$example" --mode fast --work "$healthy/wf$example" "${own[@]}" | grep -v '^scenario_'
+done
 echo "== drive_train_plant, benchmark 4.8 MW turbine"
 "$bin/drive_train_plant" 10 5
 echo "== drive_train_plant, example 2 MW turbine"
