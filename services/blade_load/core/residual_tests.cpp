@@ -472,18 +472,18 @@ void ResidualTests::blade_decision(int b, double t, bool outlier, bool outlier_c
       // ended, and the residual stepped from health again (judged suite set 191: an intermittent gauge's
       // earlier burst at 60 and 37 t, unseen in a lull, then 0.2 and -1.3, then 14.8, named a drift).
       if (c_.step_after_quiet && static_cast<int>(h.size()) > 2) {
-        bool returned[3] = {true, true, true};  // the revolutions 1 and 2 before the newest are back
-        for (int i = 1; i <= 2; ++i) {
+        const auto back_below_onset = [&](int i) {
           const double past = sign * h[h.size() - 1 - i][channel];
-          returned[i] = returned[i - 1] && std::isfinite(past) && past < c_.onset_ratio * critical;
-        }
+          return std::isfinite(past) && past < c_.onset_ratio * critical;
+        };
+        const bool one_quiet = back_below_onset(1), two_quiet = one_quiet && back_below_onset(2);
         double earlier = -std::numeric_limits<double>::infinity();
         for (int i = back; i < back + c_.abrupt_span && i < static_cast<int>(h.size()); ++i) {
           const double past = sign * h[h.size() - 1 - i][channel];
           if (std::isfinite(past)) earlier = std::max(earlier, past);
         }
-        if ((returned[2] && earlier >= critical) ||
-            (returned[1] && c_.quiet_step_strength > 0.0 && earlier >= c_.quiet_step_strength * critical))
+        if ((two_quiet && earlier >= critical) ||
+            (one_quiet && c_.quiet_step_strength > 0.0 && earlier >= c_.quiet_step_strength * critical))
           cls = "sensor_abrupt";
       }
       if (2 * m < c_.abrupt_span) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <set>
 
 namespace windfdi::pitch_diag {
@@ -158,8 +159,8 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s, const TurbineParams
   c.rename_evidence = s.get_number("rename_evidence", c.rename_evidence, 0.0, 1e4);
   c.clear_evidence = s.get_number("clear_evidence", c.clear_evidence, 0.0, 1e4);
   c.max_tracking_error = s.get_number("max_tracking_error", c.max_tracking_error, 0.0, 180.0);
-  c.turbine_rate_limit = s.get<bool>("turbine_rate_limit", c.turbine_rate_limit);
-  c.pitch_rate_limit = turbine.pitch_rate_limit;
+  c.pitch_rate_limit = s.get<bool>("turbine_rate_limit", true) ? turbine.pitch_rate_limit
+                                                               : std::numeric_limits<double>::infinity();
   c.startup_settle = s.get_number("startup_settle", c.startup_settle, 0.0, 3600.0);
   c.max_bridged_gap = s.get_number("max_bridged_gap", c.max_bridged_gap, 0.0, 10.0);
   c.context_hold = s.get_number("context_hold", c.context_hold, 0.0, 3600.0);
@@ -451,9 +452,7 @@ bool PitchDiagnoser::update(const FrameSample& s, bool gap, std::vector<FaultEve
       blades_[i].restart();
       continue;
     }
-    blades_[i].set_rate_limit(cfg_.turbine_rate_limit
-                                  ? std::min(cfg_.pitch_rate_limit, ctx.pitch_rate_limit[i])
-                                  : ctx.pitch_rate_limit[i]);
+    blades_[i].set_rate_limit(std::min(cfg_.pitch_rate_limit, ctx.pitch_rate_limit[i]));
     blades_[i].update(u, y);
     fed_[i] = true;
     fed_u_[i] = u;

@@ -65,26 +65,26 @@ struct PitchDiagConfig {
   double max_tracking_error = 5.0;  ///< deg; |reference - pitch| above it means the actuator is at its rate
                                     ///< limit (a safe stop's jump to feather): the linear model does not hold
                                     ///< and nothing is identified. Healthy lag 1 deg at 10 deg/s; 0 disables
-  bool turbine_rate_limit = true;   ///< the bank's models saturate at the turbine file's pitch_rate_limit as
-                                    ///< the valve does, not only at the arbiter's derate: a healthy 8 deg/s
-                                    ///< actuator's ramp after a 5 deg step of its reference read as
-                                    ///< high_air_content
-  double pitch_rate_limit = 10.0;   ///< deg/s, the turbine file's (set from it)
-  double startup_settle = 30.0;     ///< s of sample time after the first sample (a start or a restart on a
-                                    ///< running turbine) and after a sequence gap before any class counts
-                                    ///< towards confirmation: the bank's evidence is still young (a healthy
-                                    ///< actuator read as a leak at 4.5 s, and 3.8 s after a restart)
-  double max_bridged_gap = 0.5;     ///< s: a sequence gap this short is bridged (each blade's models move on
-                                    ///< through the straight line between the samples either side, judging
-                                    ///< nothing of it); a longer one restarts (0: every gap restarts)
-  double context_hold = 10.0;       ///< s of sample time after the inputs' context changed (another service
-                               ///< raised or cleared a fault on an input; the arbiter reconfigured) during
-                               ///< which every blade is held: the controller's transient is not a fault
-  double hold_settle = 10.0;  ///< s after a hold ends before a class counts again (5 bank memories)
-  double stuck_time = 0.2;    ///< s of an exactly repeated pitch measurement that is a stuck sensor: the
-                              ///< blade is held (a stuck sensor is not a slow actuator). 0 disables
-  double pitch_min = -5.0;    ///< deg; pitch or reference below it is rejected
-  double pitch_max = 95.0;    ///< deg; above it is rejected
+  /// deg/s: the bank's models saturate at the smaller of this and the arbiter's derate, as the valve does.
+  /// The turbine file's pitch_rate_limit (here the benchmark turbine's; YAML turbine_rate_limit: true, the
+  /// default), infinite with false (the derate alone: a healthy 8 deg/s actuator's ramp after a 5 deg step of
+  /// its reference read as high_air_content)
+  double pitch_rate_limit = 10.0;
+  double startup_settle = 30.0;  ///< s of sample time after the first sample (a start or a restart on a
+                                 ///< running turbine) and after a sequence gap before any class counts
+                                 ///< towards confirmation: the bank's evidence is still young (a healthy
+                                 ///< actuator read as a leak at 4.5 s, and 3.8 s after a restart)
+  double max_bridged_gap = 0.5;  ///< s: a sequence gap this short is bridged (each blade's models move on
+                                 ///< through the straight line between the samples either side, judging
+                                 ///< nothing of it); a longer one restarts (0: every gap restarts)
+  double context_hold = 10.0;    ///< s of sample time after the inputs' context changed (another service
+                                 ///< raised or cleared a fault on an input; the arbiter reconfigured) during
+                                 ///< which every blade is held: the controller's transient is not a fault
+  double hold_settle = 10.0;     ///< s after a hold ends before a class counts again (5 bank memories)
+  double stuck_time = 0.2;       ///< s of an exactly repeated pitch measurement that is a stuck sensor: the
+                                 ///< blade is held (a stuck sensor is not a slow actuator). 0 disables
+  double pitch_min = -5.0;       ///< deg; pitch or reference below it is rejected
+  double pitch_max = 95.0;       ///< deg; above it is rejected
 };
 
 /// Loads the pitch_diag keys of `section` (unknown keys and out-of-range values are ConfigErrors). The

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -757,7 +758,7 @@ TEST(PitchDiagnoser, AHealthyActuatorAtItsTurbinesRateLimitIsNoFault) {
     Rig limited(load_pitch_diag_config(shipped, turbine), profile, seed);
     limited.run(600.0, own, steps);
     PitchDiagConfig linear_config = load_pitch_diag_config(shipped, turbine);
-    linear_config.turbine_rate_limit = false;
+    linear_config.pitch_rate_limit = std::numeric_limits<double>::infinity();
     Rig linear(linear_config, profile, seed);
     linear.run(600.0, own, steps);
     for (const auto& e : limited.events) with_limit += e.raised;
