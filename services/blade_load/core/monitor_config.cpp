@@ -49,6 +49,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "noise_revolutions",
                         "fast_ratio",
                         "fast_confirm_time",
+                        "fast_needs_clean_witnesses",
                         "gate_pitch_margin",
                         "gate_max_sensitivity",
                         "gate_pitch_filter",
@@ -144,6 +145,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   d.fast_ratio = y.get_number("fast_ratio", d.fast_ratio, 0.0, 100.0);
   if (d.fast_ratio > 0 && d.fast_ratio < 1.0) throw y.error("fast_ratio", "must be 0 (off) or >= 1");
   d.fast_confirm_time = y.get_number("fast_confirm_time", d.fast_confirm_time, 0.1, 600.0);
+  d.fast_needs_clean_witnesses = y.get<bool>("fast_needs_clean_witnesses", d.fast_needs_clean_witnesses);
   GateConfig& g = c.gate;
   g.pitch_margin = y.get_number("gate_pitch_margin", g.pitch_margin, 0.0, 5.0);
   g.max_sensitivity = y.get_number("gate_max_sensitivity", g.max_sensitivity, 0.01, 1.0);

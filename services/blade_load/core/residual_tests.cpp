@@ -109,6 +109,15 @@ bool ResidualTests::witnessed(const BladeChannels& t, int b,
   return c_.witness != Witness::kSensors || agrees(kRawWitnessChannel, crit[kRawWitnessChannel]);
 }
 
+bool ResidualTests::isolated(const BladeChannels& x, int b, int c) const {
+  const double dev = x[b][c] - 0.5 * (x[(b + 1) % 3][c] + x[(b + 2) % 3][c]);
+  if (!std::isfinite(dev)) return false;
+  for (int o = 0; o < 3; ++o)
+    if (o != b && !((x[b][c] - x[o][c]) * (dev > 0 ? 1.0 : -1.0) >= c_.isolation_ratio * std::fabs(dev)))
+      return false;
+  return true;
+}
+
 bool ResidualTests::second_fault_witnessed(const BladeChannels& t, int b, double model_crit,
                                            bool lidar_ok) const {
   if (!c_.second_fault_model_witness || !blades_[b].raised.empty()) return true;
@@ -265,13 +274,7 @@ void ResidualTests::drift_test(bool lidar_ok) {
         // Single-fault isolation as in the outlier test, on the window means' shifts (N m per N m, not t: the
         // blades' healthy spreads differ): a faulty blade shifts its own cross residual by delta and the
         // others' by -delta / 2, so it must differ from EACH other blade in the direction of its own shift.
-        const double dev = wm[b][c] - 0.5 * (wm[(b + 1) % 3][c] + wm[(b + 2) % 3][c]);
-        bool isolated = std::isfinite(dev);
-        for (int o = 0; o < 3 && isolated; ++o)
-          if (o != b &&
-              !((wm[b][c] - wm[o][c]) * (dev > 0 ? 1.0 : -1.0) >= c_.isolation_ratio * std::fabs(dev)))
-            isolated = false;
-        if (!isolated) continue;
+        if (!isolated(wm, b, c)) continue;
         // Another blade's raised drift moves this blade's cross residual the other way by half its own (as
         // above): a shift opposite to a raised drift and no larger than it is that drift's reflection, no
         // second drift. With the noise on top it can pass the isolation test: multi-fault suite seed 72
@@ -333,6 +336,12 @@ void ResidualTests::tick(double t, double revolution_time, const BladeChannels& 
     int best_c = -1, conf_c = -1;
     double best = 0.0, conf_best = 0.0;
     bool above_onset = false;  // some channel in a same-sign run above the onset level
+    const bool others_model_quiet =
+        !lidar_ok || !other_model_residual_beyond(tv, b, c_.onset_ratio * crit_[kModelChannel], true);
+    const auto fast_witnessed = [&](int c) {
+      return !c_.fast_needs_clean_witnesses ||
+             (others_model_quiet && (!mean_load_channel(c) || isolated(x, b, kRawMeanChannel)));
+    };
     for (int c = 0; c < kChannels; ++c) {
       const double v = tv[b][c];
       // A run starts at the onset level (onset_ratio of the critical value); raising needs the critical
@@ -352,12 +361,7 @@ void ResidualTests::tick(double t, double revolution_time, const BladeChannels& 
         // direction of its own excursion, by at least isolation_ratio of its distance to their mean. A
         // common-mode excursion leaves the cross residuals alone; a rotating (1P) pattern rarely passes,
         // and never persistently with one sign.
-        const double dev = x[b][c] - 0.5 * (x[(b + 1) % 3][c] + x[(b + 2) % 3][c]);
-        for (int o = 0; o < 3; ++o)
-          if (o != b &&
-              !((x[b][c] - x[o][c]) * (dev > 0 ? 1.0 : -1.0) >= c_.isolation_ratio * std::fabs(dev)))
-            exceeds = false;
-        if (exceeds) exceeds = second_fault_witnessed(tv, b, crit_[kModelChannel], lidar_ok);
+        exceeds = isolated(x, b, c) && second_fault_witnessed(tv, b, crit_[kModelChannel], lidar_ok);
         // The mean ratio is each gauge's mean over its blade's LIDAR model: where the model misses the wind
         // on another blade (an eddy the two beams did not see), it misses this blade's mean as well. Healthy
         // rotors at 12-17.4 m/s, turbulence 0.144-0.159: another blade's LIDAR residual at 6-18 t (the onset
@@ -391,7 +395,7 @@ void ResidualTests::tick(double t, double revolution_time, const BladeChannels& 
         above_onset = true;
       const double r = std::fabs(v) / crit_[c];
       // A large step: far above the critical value for fast_confirm_time confirms before a revolution.
-      const bool fast_now = c_.fast_ratio > 0 && r > c_.fast_ratio;
+      const bool fast_now = c_.fast_ratio > 0 && r > c_.fast_ratio && fast_witnessed(c);
       if (!fast_now)
         B.fast_start[c] = -1.0;
       else if (B.fast_start[c] < 0)

@@ -1308,10 +1308,12 @@ TEST(PlantFaults, WithAGaugeRaisedAnotherBladesPitchSensorBiasIsNoFaultOfTheThir
   // (each rule alone removes the third gauge's report: blade 2's own LIDAR residual is beyond the onset
   // level; the mean-load witness is off here, this tests the second-fault witness, and so are the pitch
   // reading's test against its actuator's response, which holds the model from the bias's onset on, and the
-  // gauges' witness of the mean-load ratio)
+  // gauges' witness of the mean-load ratio, and the fast path's clean witnesses)
   for (const bool witness : {false, true}) {
     const auto r = run_medium_wt02(16.7, 0.105, 0.174, 420, {gain, bias}, 116006,
-                                   {{"second_fault_model_witness", witness}, {"mean_model_witness", false}},
+                                   {{"second_fault_model_witness", witness},
+                                    {"mean_model_witness", false},
+                                    {"fast_needs_clean_witnesses", false}},
                                    {{"pitch_response_mismatch", 0.0}, {"mean_gauge_witness_share", 0.0}});
     bool blade3 = false, other = false;
     for (const auto& e : r.events) {
@@ -1472,6 +1474,7 @@ TEST(PlantHealthy, AMeanRatioTheLidarModelMissesOnAnotherBladeIsNoGaugeFault) {
   auto run = [](bool mean_model_witness) {
     YAML::Node n(YAML::NodeType::Map);
     n["mean_model_witness"] = mean_model_witness;
+    n["fast_needs_clean_witnesses"] = false;  // which would hold it too (its own test below)
     return run_plant(16.0, 0.144, 0.188, 0.03, 400, {}, 134001, config(n), LoadTable::from_turbine({}), false,
                      {}, TurbineParams{}, "WT03");
   };
@@ -1512,6 +1515,42 @@ TEST(PlantHealthy, AMeanRatioTheGaugesDoNotShareIsNoGaugeFault) {
   // THEN nothing is raised
   EXPECT_TRUE(r.events.empty()) << r.events.front().t << " " << r.events.front().component << " "
                                 << r.events.front().detail;
+}
+
+TEST(PlantHealthy, AGustTheBeamsMissedForARevolutionTakesNoFastPath) {
+  // GIVEN two healthy rotors of judged suite sets, each with a gust the two beams did not see that puts one
+  // blade's mean-load ratio at 1.4-1.6 times its critical value for about a revolution: the benchmark turbine
+  // at 20 m/s (set 207, scenario 11, WT04: the gauges' own cross-blade means put blade 3 with blade 1) and
+  // the 6 MW example at 12 m/s (set 201, scenario 04, WT02: another blade's LIDAR residual at 0.78 of its
+  // critical value)
+  const std::string deploy = WINDFDI_SOURCE_DEPLOY_DIR;
+  const TurbineParams six = load_turbine_params_file(deploy + "/turbine/example_6MW.yaml");
+  auto run = [&](bool clean, bool six_mw) {
+    YAML::Node n(YAML::NodeType::Map);
+    n["fast_needs_clean_witnesses"] = clean;
+    const TurbineParams& turbine = six_mw ? six : TurbineParams{};
+    const MonitorConfig c = load_monitor_config(YamlSection(n, "(test)"), turbine);
+    return six_mw ? run_plant(12.0, 0.118, 0.29, 0.03, 260, {}, 201004, c, LoadTable::from_turbine(six),
+                              false, {}, six, "WT02")
+                  : run_plant(20.0, 0.135, 0.238, 0.03, 440, {}, 207011, c, LoadTable::from_turbine({}),
+                              false, {}, TurbineParams{}, "WT04");
+  };
+  for (bool six_mw : {false, true}) {
+    // WHEN the fast path takes any run above 1.25 times the critical value for a second (before stop 62)
+    const auto without = run(false, six_mw);
+    // THEN a healthy gauge is raised sensor_abrupt on the mean-load ratio
+    ASSERT_FALSE(without.events.empty()) << "the gust no longer raises: this test no longer tests";
+    std::printf("[measured] %s, any witness: %s %s at %.1f s (%s)\n", six_mw ? "6 MW" : "benchmark",
+                without.events.front().component.c_str(), without.events.front().fault.c_str(),
+                without.events.front().t, without.events.front().detail.c_str());
+    EXPECT_NE(without.events.front().detail.find("cross_blade_mean_ratio"), std::string::npos);
+    // WHEN the fast path needs the other blades' LIDAR residuals quiet and the gauges' own means to isolate
+    // the blade (the default)
+    const auto r = run(true, six_mw);
+    // THEN nothing is raised
+    EXPECT_TRUE(r.events.empty()) << r.events.front().t << " " << r.events.front().component << " "
+                                  << r.events.front().detail;
+  }
 }
 
 TEST(SteepSurfaceGate, ClosesOnlyWhereTheLoadTableIsSteepInPitch) {
