@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <csignal>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -380,6 +382,44 @@ TEST(HealthyFarm, EveryServiceOnTheHealthyScenarioRaisesNothing) {
       EXPECT_GT(in, 80000u) << it->second.dump();
       EXPECT_LT(it->second["samples_rejected"].get<uint64_t>(), in / 100) << it->second.dump();
     }
+}
+
+TEST(LaunchFarm, AScenariosTurbineFileIsEveryServicesAndTheArbiters) {
+  // GIVEN a scenario on the 6 MW example turbine (turbine_file, relative to deploy/) run by the simulated
+  // farm (launch_farm.sh: every service, the arbiter, the farm monitor and the plant on a private domain), 30
+  // s at 10x
+  const int domain = private_domain(41);
+  auto env = dds_env(domain);
+  env["WINDFDI_BIN"] = bin("");
+  const std::string dir = temp_dir("launch_farm_" + std::to_string(domain));
+  const std::string scenario = dir + "/six.yaml";
+  {
+    std::ofstream f(scenario);
+    f << "duration: 30\nseed: 5\nturbine_file: turbine/example_6MW.yaml\nturbines:\n"
+         "  - {id: WT01, wind: {mean: 12.0, turbulence_intensity: 0.1, shear_exponent: 0.2}}\nfaults: []\n";
+  }
+  {
+    ChildProcess farm({kDeploy + "/scripts/launch_farm.sh", scenario, "--rate", "10", "--work", dir + "/work",
+                       "--domain", std::to_string(domain), "--table-period", "0"},
+                      env, "launch_farm");
+    ASSERT_EQ(farm.wait(std::chrono::seconds(120)), 0) << farm.stderr_text();
+  }
+  remove_stale_shm(domain);
+  // THEN every service's and the arbiter's configuration names that turbine file, as the plant's scenario
+  // does
+  const std::string six = kDeploy + "/turbine/example_6MW.yaml";
+  for (const char* name :
+       {"arbiter", "blade_load", "drive_train", "ice_detect", "pitch_diag", "sensor_bias"}) {
+    const std::string config = read_file(dir + "/work/deploy/config/" + name + ".yaml");
+    EXPECT_NE(config.find("turbine_file: " + std::filesystem::canonical(six).string()), std::string::npos)
+        << name;
+  }
+  // AND sensor_bias designed its observers for that turbine at start (its relative gain files resolved)
+  const std::string log = read_file(dir + "/work/logs/sensor-bias.log");
+  EXPECT_NE(log.find("designed from design_drive_train_observer.yaml for it"), std::string::npos) << log;
+  EXPECT_NE(log.find("example_6MW.yaml"), std::string::npos) << log;
+  // AND the farm monitor stored the turbine's health
+  EXPECT_FALSE(farm_history(dir + "/work/farm.sqlite", env).empty());
 }
 
 TEST(SilentPlant, AServiceReportsItsInputStreamsMissedDeadlinesInItsHealth) {
