@@ -73,6 +73,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s, const TurbineParams
                         "max_bridged_gap",
                         "context_hold",
                         "hold_settle",
+                        "hold_level_restart",
                         "stuck_time",
                         "pitch_min",
                         "pitch_max"});
@@ -165,6 +166,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s, const TurbineParams
   c.max_bridged_gap = s.get_number("max_bridged_gap", c.max_bridged_gap, 0.0, 10.0);
   c.context_hold = s.get_number("context_hold", c.context_hold, 0.0, 3600.0);
   c.hold_settle = s.get_number("hold_settle", c.hold_settle, 0.0, 3600.0);
+  c.hold_level_restart = s.get<bool>("hold_level_restart", c.hold_level_restart);
   c.stuck_time = s.get_number("stuck_time", c.stuck_time, 0.0, 60.0);
   c.pitch_min = s.get_number("pitch_min", c.pitch_min, -90.0, 90.0);
   c.pitch_max = s.get_number("pitch_max", c.pitch_max, c.pitch_min, 180.0);
@@ -440,7 +442,7 @@ bool PitchDiagnoser::update(const FrameSample& s, bool gap, std::vector<FaultEve
     const InputContext& ctx = suspects_.context();
     if (transient || stuck || ctx.pitch_sensor_suspect[i] || ctx.turbine_stopped) {
       ++held_[i];
-      blades_[i].hold(stuck || ctx.pitch_sensor_suspect[i]);
+      blades_[i].hold(stuck || ctx.pitch_sensor_suspect[i], cfg_.hold_level_restart);
       blades_[i].decide_from(s.t + cfg_.hold_settle);
       blades_[i].identification_restarted(s.t);
       continue;
