@@ -65,6 +65,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "mean_model_witness_ratio",
                         "mean_gauge_witness_share",
                         "robust_clip",
+                        "noise_holds_raised",
                         "abrupt_ratio",
                         "abrupt_lookback",
                         "abrupt_span",
@@ -172,6 +173,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   d.mean_gauge_witness_share =
       y.get_number("mean_gauge_witness_share", d.mean_gauge_witness_share, 0.0, 10.0);
   l.robust_clip = y.get_number("robust_clip", l.robust_clip, 1.0, 100.0);
+  l.noise_holds_raised = y.get<bool>("noise_holds_raised", l.noise_holds_raised);
   d.abrupt_ratio = y.get_number("abrupt_ratio", d.abrupt_ratio, 0.0, 1.0);
   d.abrupt_lookback = static_cast<int>(y.get_number("abrupt_lookback", d.abrupt_lookback, 1, 20));
   d.abrupt_span = static_cast<int>(y.get_number("abrupt_span", d.abrupt_span, 1, 10));

@@ -7,7 +7,8 @@
 
 namespace windfdi::blade_load {
 
-void NoiseFollower::follow(const BladeChannels& deviation, const BladeChannels& unit) {
+void NoiseFollower::follow(const BladeChannels& deviation, const BladeChannels& unit,
+                           const std::array<bool, 3>& held) {
   // The present level is the smallest of the three pairs of blades' mean square differences: a failed gauge
   // is one blade and moves both pairs it is in, never the third. A pair's difference is taken in the
   // residual's own units (each blade's deviation from its healthy mean) over the pair's mean unit (the
@@ -32,7 +33,7 @@ void NoiseFollower::follow(const BladeChannels& deviation, const BladeChannels& 
       const double u = std::sqrt(0.5 * (unit[i][c] * unit[i][c] + unit[j][c] * unit[j][c]));
       const double d = (deviation[i][c] - deviation[j][c]) / u;
       if (L.pair_var[i] < 0) L.pair_var[i] = kPairVariance[c];
-      L.pair_var[i] += (d * d - L.pair_var[i]) / revolutions_;
+      if (!held[i] && !held[j]) L.pair_var[i] += (d * d - L.pair_var[i]) / revolutions_;
       spread = std::min(spread, L.pair_var[i]);
     }
     L.scale = std::max(1.0, std::sqrt(spread / kPairVariance[c]));

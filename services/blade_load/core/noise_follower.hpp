@@ -17,8 +17,9 @@ class NoiseFollower {
   /// `revolutions`: the averaging length (0: off, the scale stays 1).
   explicit NoiseFollower(double revolutions) : revolutions_(revolutions) {}
   /// One revolution: each blade's deviation from its healthy mean (NaN: none) and the unit its test divides
-  /// by.
-  void follow(const BladeChannels& deviation, const BladeChannels& unit);
+  /// by. A pair with a `held` blade keeps its level.
+  void follow(const BladeChannels& deviation, const BladeChannels& unit,
+              const std::array<bool, 3>& held = {});
   /// The factor a channel's t-values are divided by now (>= 1).
   double scale(int channel) const { return level_[channel].scale; }
 

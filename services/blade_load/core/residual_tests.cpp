@@ -34,7 +34,8 @@ ResidualTests::ResidualTests(const DetectionConfig& detection, const LearningCon
     : c_(detection),
       healthy_(learning),
       noise_(learning.noise_revolutions),
-      drift_noise_(learning.noise_revolutions) {
+      drift_noise_(learning.noise_revolutions),
+      noise_holds_raised_(learning.noise_holds_raised) {
   for (auto& B : blades_) {
     B.run_start.fill(-1.0);
     B.fast_start.fill(-1.0);
@@ -159,7 +160,13 @@ void ResidualTests::follow_noise(const BladeChannels& x) {
       deviation[b][c] = h.learned && std::isfinite(x[b][c]) ? x[b][c] - h.mean : kNaN;
       unit[b][c] = h.outlier_sd();
     }
-  noise_.follow(deviation, unit);
+  noise_.follow(deviation, unit, noise_held());
+}
+
+std::array<bool, 3> ResidualTests::noise_held() const {
+  std::array<bool, 3> held{};
+  for (int b = 0; b < 3; ++b) held[b] = noise_holds_raised_ && !blades_[b].raised.empty();
+  return held;
 }
 
 void ResidualTests::revolution(double t, double revolution_time, const BladeChannels& x, bool lidar_ok) {
@@ -221,7 +228,7 @@ void ResidualTests::drift_test(bool lidar_ok) {
   }
   // The window means' own noise level (faster turbulence raises the one-revolution spread more than a
   // 10-revolution mean's: scaling the drift test by the former missed half the drifts of the suite).
-  drift_noise_.follow(wm, drift_unit);
+  drift_noise_.follow(wm, drift_unit, noise_held());
   for (int b = 0; b < 3; ++b)
     for (int c = 0; c < kChannels; ++c) dt[b][c] /= drift_noise_.scale(c);
   for (int b = 0; b < 3; ++b) {

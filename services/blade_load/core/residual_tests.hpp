@@ -190,6 +190,8 @@ class ResidualTests {
   bool other_model_residual_beyond(const BladeChannels& t, int blade, double level, bool only_unraised) const;
   double t_value(int blade, int channel, double x) const;  // NaN when not learned or x is not available
   void follow_noise(const BladeChannels& x);
+  // The blades whose gauge is raised, when the noise followers hold their pairs (noise_holds_raised).
+  std::array<bool, 3> noise_held() const;
   void drift_test(bool lidar_ok);
   // `known`: some test could judge blade b now (false while its windows refill).
   void blade_decision(int b, double t, bool active, bool confirmed, double stat, double crit, int channel,
@@ -205,6 +207,7 @@ class ResidualTests {
   double witness_crit_ = 0.0;
   NoiseFollower noise_;        // of the one-revolution values
   NoiseFollower drift_noise_;  // of the drift test's window means
+  bool noise_holds_raised_;
 };
 
 }  // namespace windfdi::blade_load

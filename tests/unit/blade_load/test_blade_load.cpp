@@ -1308,12 +1308,15 @@ TEST(PlantFaults, WithAGaugeRaisedAnotherBladesPitchSensorBiasIsNoFaultOfTheThir
   // (each rule alone removes the third gauge's report: blade 2's own LIDAR residual is beyond the onset
   // level; the mean-load witness is off here, this tests the second-fault witness, and so are the pitch
   // reading's test against its actuator's response, which holds the model from the bias's onset on, and the
-  // gauges' witness of the mean-load ratio, and the fast path's clean witnesses)
+  // gauges' witness of the mean-load ratio, and the fast path's clean witnesses; the noise followers follow
+  // every pair, as before stop 62, whose pairs with the raised blade 3 then no longer stood far above blade
+  // 2's change)
   for (const bool witness : {false, true}) {
     const auto r = run_medium_wt02(16.7, 0.105, 0.174, 420, {gain, bias}, 116006,
                                    {{"second_fault_model_witness", witness},
                                     {"mean_model_witness", false},
-                                    {"fast_needs_clean_witnesses", false}},
+                                    {"fast_needs_clean_witnesses", false},
+                                    {"noise_holds_raised", false}},
                                    {{"pitch_response_mismatch", 0.0}, {"mean_gauge_witness_share", 0.0}});
     bool blade3 = false, other = false;
     for (const auto& e : r.events) {
@@ -1332,6 +1335,11 @@ TEST(PlantFaults, WithAGaugeRaisedAnotherBladesPitchSensorBiasIsNoFaultOfTheThir
     else
       EXPECT_TRUE(other) << "the second fault no longer reads as the third gauge: this test no longer tests";
   }
+  // AND with every rule as shipped, blade 3's gauge alone is raised
+  const auto shipped = run_medium_wt02(16.7, 0.105, 0.174, 420, {gain, bias}, 116006, {});
+  ASSERT_FALSE(shipped.events.empty());
+  for (const auto& e : shipped.events)
+    EXPECT_EQ(e.component, "blade_moment_sensor_3") << e.fault << " at " << e.t << " (" << e.detail << ")";
 }
 
 TEST(PlantFaults, APitchSensorsBiasIsASuspectInputNotItsBladesGaugeFailing) {
@@ -1550,6 +1558,47 @@ TEST(PlantHealthy, AGustTheBeamsMissedForARevolutionTakesNoFastPath) {
     // THEN nothing is raised
     EXPECT_TRUE(r.events.empty()) << r.events.front().t << " " << r.events.front().component << " "
                                   << r.events.front().detail;
+  }
+}
+
+TEST(PlantFaults, AnEarlierGaugesFaultLeavesTheNoiseLevelOfTheOtherBladesDrift) {
+  // GIVEN the benchmark turbine as judged suite set 204, scenario 03, runs its WT02 (7.9 m/s, TI 0.102, shear
+  // 0.242, seed 204003): blade 1's gauge reads 0.717 times its load from 300 to 455 s, and blade 3's drifts
+  // by -1180 N m/s from 850 to 1023 s
+  auto gain = plant::FaultSpec::make("WT02", "blade_moment_1", "gain", 300.0);
+  gain.gain = 0.717;
+  gain.end = 455.0;
+  auto drift = plant::FaultSpec::make("WT02", "blade_moment_3", "drift", 850.0);
+  drift.rate = -1179.6;
+  drift.end = 1023.0;
+  auto run = [&](bool noise_holds_raised) {
+    YAML::Node n(YAML::NodeType::Map);
+    n["noise_holds_raised"] = noise_holds_raised;
+    return run_plant(7.9, 0.102, 0.242, 0.03, 1100, {gain, drift}, 204003, config(n),
+                     LoadTable::from_turbine({}), false, {}, TurbineParams{}, "WT02");
+  };
+  auto drift_raised = [](const PlantRun& r) {
+    for (const auto& e : r.events)
+      if (e.raised && e.component == "blade_moment_sensor_3" && e.t >= 850.0) return e.t;
+    return -1.0;
+  };
+  // WHEN the noise followers follow every pair of blades through blade 1's raised gain (before stop 62)
+  const auto before = run(false);
+  std::printf("[measured] every pair followed: %s\n", event_sequence(before.events).c_str());
+  // THEN blade 3's drift is never raised: the pairs with blade 1 were still far above their healthy level
+  EXPECT_LT(drift_raised(before), 0.0) << "the drift is found without the hold: this test no longer tests";
+  // WHEN the pairs with a raised blade keep their level while it is raised (the default)
+  const auto now = run(true);
+  std::printf("[measured] pairs with a raised blade held: %s\n", event_sequence(now.events).c_str());
+  // THEN blade 1's gain is raised, and blade 3's drift as a drift while it drifts
+  ASSERT_FALSE(now.events.empty());
+  EXPECT_EQ(now.events.front().component, "blade_moment_sensor_1");
+  EXPECT_GT(drift_raised(now), 850.0);
+  EXPECT_LT(drift_raised(now), 1023.0);
+  for (const auto& e : now.events) {
+    if (e.raised && e.component == "blade_moment_sensor_3") {
+      EXPECT_EQ(e.fault, "sensor_drift") << e.t;
+    }
   }
 }
 
