@@ -86,7 +86,7 @@ struct PitchDiagConfig {
   /// which is right for a lost sample or two but not for 10 s of a context change's transient. Judged suite
   /// set 200 (6 MW example, 14.8 m/s): a generator-speed gain fault's degraded mode moved the pitch 7 deg in
   /// the hold, and a healthy blade's bank gathered 160 sigma^2 against the healthy actuator within 2 s of it
-  /// (high_air_content raised 16 s after the hold, on that evidence's remnant); with the restart, under 2.
+  /// (high_air_content raised 14-16 s after the hold, on that evidence's remnant); with the restart, under 2.
   /// false: only a suspect reading's hold restarts it, as before stop 62
   bool hold_level_restart = true;
   double stuck_time = 0.2;  ///< s of an exactly repeated pitch measurement that is a stuck sensor: the
