@@ -61,6 +61,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s, const TurbineParams
                         "ramp_time",
                         "shared_settle_time",
                         "abrupt_unseen_max",
+                        "unseen_from_last_healthy",
                         "shared_alpha",
                         "short_max_alpha",
                         "past_short_evidence",
@@ -153,6 +154,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s, const TurbineParams
   c.ramp_time = s.get_number("ramp_time", c.ramp_time, c.abrupt_pace, 3600.0);
   c.shared_settle_time = s.get_number("shared_settle_time", c.shared_settle_time, 0.0, 600.0);
   c.abrupt_unseen_max = s.get_number("abrupt_unseen_max", c.abrupt_unseen_max, 0.0, 3600.0);
+  c.unseen_from_last_healthy = s.get<bool>("unseen_from_last_healthy", c.unseen_from_last_healthy);
   c.shared_alpha = s.get_number("shared_alpha", c.shared_alpha, 0.0, 1.0);
   c.short_max_alpha = s.get_number("short_max_alpha", c.short_max_alpha, 1.0, 1.5);
   c.past_short_evidence = s.get_number("past_short_evidence", c.past_short_evidence, 0.0, 1e4);
@@ -214,7 +216,10 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) 
   decided_ = false;
   // Time without a decision while the estimate is on its way from healthy to the pump-wear point.
   const auto unseen = [&] {
-    if (excited_since_healthy_ > 0.0 && shared_reached_after_ < 0.0) unseen_since_healthy_ += dt;
+    if (excited_since_healthy_ > 0.0 && shared_reached_after_ < 0.0)
+      unseen_since_healthy_ += dt;
+    else if (seen_healthy_ && !left_healthy_)
+      held_since_healthy_ += dt;
   };
   if (!decisive && !by_information) {
     unseen();
@@ -244,10 +249,19 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) 
   const auto& sig = cfg_->classifier.signatures;
   if (cls_.raw_alpha < cfg_->alpha_clear) {
     // Healthy with hysteresis: noise around alpha_detect must not restart the shared-path clock.
-    excited_since_healthy_ = unseen_since_healthy_ = 0.0;
+    excited_since_healthy_ = unseen_since_healthy_ = held_since_healthy_ = 0.0;
     shared_reached_after_ = half_reached_after_ = -1.0;
     settled_at_short_ = 0.0;
+    seen_healthy_ = true;
+    left_healthy_ = false;
   } else {
+    // The blade left healthy somewhere in the hold since its last healthy decision: a leak ramped in over 30
+    // s was held 1.0-4.0 s just before its first decision off healthy, was first seen past half-way to the
+    // pump-wear point and reached it in 0.9-3.1 s of excited data, and was named pump_wear (judged suite sets
+    // 222 and 224, three of three ramped leaks named pump_wear first; tuning set 154, one).
+    if (!left_healthy_ && cfg_->unseen_from_last_healthy) unseen_since_healthy_ += held_since_healthy_;
+    left_healthy_ = true;
+    held_since_healthy_ = 0.0;
     // In the bank's information clock: on a slow swing the estimate moves as far per unit of information as
     // on turbulence, but slower per second; an abrupt pump wear there read as a developing leak (1 under eq
     // 20).

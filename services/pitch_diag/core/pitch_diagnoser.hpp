@@ -44,6 +44,8 @@ struct PitchDiagConfig {
   double abrupt_unseen_max = 2.0;   ///< s of sample time without a decision between leaving healthy and
                                     ///< reaching the pump-wear point: more, and the data did not see how the
                                     ///< blade got there; the crossing is a ramp, not abrupt
+  bool unseen_from_last_healthy = true;  ///< the hold between the last healthy decision and the first one off
+                                         ///< healthy is unseen too: the blade left healthy somewhere in it
   double shared_alpha = 0.8;  ///< alpha on the shorter (pump-wear) path that counts as reaching its point
   double short_max_alpha =
       1.15;  ///< alpha on the shorter path beyond which a point not yet raised as that fault
@@ -179,6 +181,9 @@ class BladeDiagnoser {
   double settled_at_short_ = 0.0;       // s of excited data since then at the pump-wear point
   double unseen_since_healthy_ = 0.0;   // s of sample time without a decision between leaving healthy and
                                         // reaching the pump-wear point
+  double held_since_healthy_ = 0.0;     // s of sample time without a decision since the last healthy one
+  bool seen_healthy_ = false;           // a healthy decision since the start
+  bool left_healthy_ = false;           // a decision off healthy since the last healthy one
   bool decided_ = false;
 };
 
