@@ -14,9 +14,8 @@ bool InputContextTracker::on_fault(const FaultEvent& e) {
   raised_[key] = e.raised;
   const InputContext before = context_;
   rebuild();
-  const bool changed = !(before == context_);
-  if (changed) ++context_.transitions;
-  return changed;
+  if (!before.same_transient_inputs(context_)) ++context_.transitions;
+  return !(before == context_);
 }
 
 void InputContextTracker::rebuild() {
@@ -33,6 +32,7 @@ void InputContextTracker::rebuild() {
     if (component == "generator_speed_sensor") c.generator_speed_suspect = true;
     if (blade >= 0 && component.rfind("pitch_sensor_", 0) == 0) c.pitch_sensor_suspect[blade] = true;
     if (blade >= 0 && component.rfind("pitch_actuator_", 0) == 0) c.pitch_actuator_suspect[blade] = true;
+    if (component == "drive_train") c.drive_train_suspect = true;
   }
   context_ = c;
 }

@@ -19,6 +19,9 @@ struct InputContext {
   bool generator_speed_suspect = false;
   std::array<bool, 3> pitch_sensor_suspect{};    ///< measured pitch of blade i
   std::array<bool, 3> pitch_actuator_suspect{};  ///< the actuator of blade i (its measured pitch is true)
+  /// drive_train reports the drive train's efficiency (efficiency_loss): a torque balance that takes the
+  /// turbine file's efficiency does not hold. No controller switches anything on it, so it is no transient.
+  bool drive_train_suspect = false;
   bool turbine_stopped =
       false;  ///< the arbiter holds the turbine in safe stop: its actuators are parked at feather
   /// deg/s, the pitch rate limit the arbiter commands per blade (infinite: none seen)
@@ -33,11 +36,18 @@ struct InputContext {
   uint64_t transitions = 0;
 
   bool speed_suspect() const { return rotor_speed_suspect || generator_speed_suspect; }
+  /// Equal in what a transient follows: all but drive_train_suspect.
+  bool same_transient_inputs(const InputContext& o) const {
+    InputContext a = *this;
+    a.drive_train_suspect = o.drive_train_suspect;
+    return a == o;
+  }
   bool operator==(const InputContext& o) const {
     return rotor_speed_suspect == o.rotor_speed_suspect &&
            generator_speed_suspect == o.generator_speed_suspect &&
            pitch_sensor_suspect == o.pitch_sensor_suspect &&
-           pitch_actuator_suspect == o.pitch_actuator_suspect && turbine_stopped == o.turbine_stopped &&
+           pitch_actuator_suspect == o.pitch_actuator_suspect &&
+           drive_train_suspect == o.drive_train_suspect && turbine_stopped == o.turbine_stopped &&
            pitch_rate_limit == o.pitch_rate_limit && absent == o.absent && transitions == o.transitions;
   }
 };
@@ -75,7 +85,7 @@ class SuspectHold {
   explicit SuspectHold(double hold_time = 10.0) : hold_time_(hold_time) {}
   /// The context in force from sample time `t` on.
   void set(const InputContext& c, double t) {
-    if (!(c == context_)) last_change_ = t;
+    if (!c.same_transient_inputs(context_)) last_change_ = t;
     context_ = c;
   }
   const InputContext& context() const { return context_; }

@@ -82,6 +82,9 @@ struct DetectorConfig {
   double speed_mismatch =
       0.05;  ///< relative |omega_g / N - omega_r| / omega_r (0.5 s low-pass) above which the
              ///< speed sensors disagree: the generator speed is suspect, not fed (0: off)
+  /// While drive_train reports efficiency_loss, nothing is fed: the torque balance divides by the turbine
+  /// file's efficiency, and its step read as an inertia fall (false ice_shedding)
+  bool efficiency_loss_holds = true;
 };
 
 /// Loads the `ice_detect` keys (unknown keys and out-of-range values are ConfigErrors).
@@ -110,8 +113,8 @@ class IceDetector {
   bool estimate_due(InertiaOutput& out);
 
   uint64_t rejected() const { return rejected_; }
-  /// Samples not fed because the generator speed was suspect (speed_mismatch, or another service's fault on a
-  /// speed sensor): the inertia is estimated from it, so the estimate is held instead.
+  /// Samples not fed because an input was suspect (speed_mismatch, or another service's fault on a speed or
+  /// pitch sensor or the drive train's efficiency): the estimate is held instead.
   uint64_t suspect_samples() const { return suspect_samples_; }
   void set_context(const InputContext& context) { context_ = context; }
   const InertiaEstimator& estimator() const { return estimator_; }

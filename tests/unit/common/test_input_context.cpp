@@ -67,4 +67,33 @@ TEST(SuspectHold, HoldsForItsTimeAfterEachChangeOfTheContext) {
   EXPECT_FALSE(hold.in_transient(200.0));
 }
 
+TEST(InputContextTracker, ADriveTrainEfficiencyReportIsSuspectButNoTransient) {
+  InputContextTracker tracker("ice_detect");
+  SuspectHold hold(10.0);
+  // GIVEN drive_train raising efficiency_loss (its component drive_train)
+  FaultEvent e = report("drive_train", "drive_train", true);
+  e.fault = "efficiency_loss";
+  // THEN the drive train is suspect (a torque balance with the turbine file's efficiency does not hold) and
+  // the service hears of it
+  EXPECT_TRUE(tracker.on_fault(e));
+  EXPECT_TRUE(tracker.context().drive_train_suspect);
+  EXPECT_FALSE(tracker.context().speed_suspect());
+  // BUT it is no transition: no controller switches on it, so no service holds its judgement for it
+  EXPECT_EQ(tracker.context().transitions, 0u);
+  hold.set(tracker.context(), 50.0);
+  EXPECT_FALSE(hold.in_transient(50.0));
+  // AND when it clears the drive train is trusted again, still without a transition
+  e.raised = false;
+  EXPECT_TRUE(tracker.on_fault(e));
+  EXPECT_FALSE(tracker.context().drive_train_suspect);
+  EXPECT_EQ(tracker.context().transitions, 0u);
+  hold.set(tracker.context(), 80.0);
+  EXPECT_FALSE(hold.in_transient(80.0));
+  // (a speed sensor's report still is one)
+  EXPECT_TRUE(tracker.on_fault(report("sensor_bias", "rotor_speed_sensor", true)));
+  EXPECT_EQ(tracker.context().transitions, 1u);
+  hold.set(tracker.context(), 90.0);
+  EXPECT_TRUE(hold.in_transient(90.0));
+}
+
 }  // namespace
