@@ -82,8 +82,9 @@ struct DetectorConfig {
   double speed_mismatch =
       0.05;  ///< relative |omega_g / N - omega_r| / omega_r (0.5 s low-pass) above which the
              ///< speed sensors disagree: the generator speed is suspect, not fed (0: off)
-  /// While drive_train reports efficiency_loss, nothing is fed: the torque balance divides by the turbine
-  /// file's efficiency, and its step read as an inertia fall (false ice_shedding)
+  /// While drive_train reports efficiency_loss, the shedding test takes no balance (and forgets those since
+  /// the loss began): the balance divides by the turbine file's efficiency, and its step read as an inertia
+  /// fall (false ice_shedding). The inertia regression goes on.
   bool efficiency_loss_holds = true;
 };
 
@@ -114,7 +115,7 @@ class IceDetector {
 
   uint64_t rejected() const { return rejected_; }
   /// Samples not fed because an input was suspect (speed_mismatch, or another service's fault on a speed or
-  /// pitch sensor or the drive train's efficiency): the estimate is held instead.
+  /// pitch sensor): the estimate is held instead.
   uint64_t suspect_samples() const { return suspect_samples_; }
   void set_context(const InputContext& context) { context_ = context; }
   const InertiaEstimator& estimator() const { return estimator_; }
@@ -176,7 +177,8 @@ class IceDetector {
   double shed_raised_at_ = -1.0;
   uint64_t power_changes_seen_ = 0;
   InputContext context_;
-  bool fed_ = false;  // the last sample was fed to the estimators
+  bool fed_ = false;        // the last sample was fed to the estimators
+  bool drop_held_ = false;  // the shedding test took no balance (drive train suspect)
   struct Fed {
     uint64_t sequence = 0;
     double t = 0, generator_speed = 0, power = 0, gen_torque = 0;
