@@ -59,6 +59,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "pitch_mismatch",
                         "pitch_response_mismatch",
                         "context_hold",
+                        "actuator_report_holds",
                         "isolation_ratio",
                         "second_fault_model_witness",
                         "mean_model_witness",
@@ -165,6 +166,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   s.pitch_min = turbine.pitch_min;
   s.pitch_max = turbine.pitch_max;
   s.context_hold = y.get_number("context_hold", s.context_hold, 0.0, 3600.0);
+  s.actuator_report_holds = y.get<bool>("actuator_report_holds", s.actuator_report_holds);
   d.isolation_ratio = y.get_number("isolation_ratio", d.isolation_ratio, 0.0, 2.0);
   d.second_fault_model_witness = y.get<bool>("second_fault_model_witness", d.second_fault_model_witness);
   d.mean_model_witness = y.get<bool>("mean_model_witness", d.mean_model_witness);

@@ -74,7 +74,8 @@ bool SuspectInputs::update(const FrameSample& s) {
   // transient (context_hold after it is raised and after the arbiter's switch to the corrected speed): the
   // model predicts from the measured rotor speed (or its twin) and pitch, whatever speed the controller ran
   // on, and holding for the whole fault hid 3 of 29 intermittent blade-moment faults in the suite (seed 15).
-  for (int b = 0; b < 3; ++b) suspect |= c.pitch_sensor_suspect[b] || c.pitch_actuator_suspect[b];
+  for (int b = 0; b < 3; ++b)
+    suspect |= c.pitch_sensor_suspect[b] || (c_.actuator_report_holds && c.pitch_actuator_suspect[b]);
   suspect = suspect || (c.rotor_speed_suspect && !twin_usable(s)) || hold_.in_transient(s.t);
   if (suspect) ++suspect_samples_;
   return suspect;

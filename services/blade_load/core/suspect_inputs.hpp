@@ -34,11 +34,15 @@ struct SuspectInputConfig {
   double pitch_rate_limit = 10.0;  ///< deg/s
   double pitch_min = -2.0;         ///< deg
   double pitch_max = 90.0;         ///< deg
-  double context_hold = 10.0;      ///< s held after another service raised or cleared a fault on an input the
-                                   ///< model uses (a speed or pitch sensor, an actuator), or the arbiter
-                                   ///< reconfigured the controller; held as long as such a fault stays raised
-                                   ///< (a fault on one speed sensor: only this long; lambda comes from the
-                                   ///< other one)
+  /// A reported pitch actuator holds every test while it stays raised (false: through context_hold only; the
+  /// blade's reading is true, and pitch_response_mismatch still holds while it departs from a healthy
+  /// actuator's response). A report awaiting maintenance (or one that outlived its fault) hid a gauge's gain
+  bool actuator_report_holds = false;
+  double context_hold = 10.0;  ///< s held after another service raised or cleared a fault on an input the
+                               ///< model uses (a speed or pitch sensor, an actuator), or the arbiter
+                               ///< reconfigured the controller; held as long as such a fault stays raised
+                               ///< (a fault on one speed sensor: only this long; lambda comes from the
+                               ///< other one)
 };
 
 class SuspectInputs {

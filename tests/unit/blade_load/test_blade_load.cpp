@@ -668,6 +668,58 @@ TEST(PlantDetection, ASpeedSensorFaultHidesNoBladeFaultWhileTheOtherSpeedSensorI
   }
 }
 
+TEST(PlantDetection, AnActuatorReportAwaitingMaintenanceHidesNoGaugeFault) {
+  // GIVEN high air content in blade 2's actuator from 200 s, which pitch_diag reports from 203 s on (suite
+  // set 224, scenario 09: the report stayed raised after the actuator recovered, and a gain of 0.723 on blade
+  // 1's gauge 370 s later went unseen), either ending at 300 s or staying; and that gain on blade 1 from 400
+  // s, at 16 and 21 m/s
+  YAML::Node held_throughout;
+  held_throughout["actuator_report_holds"] = true;
+  for (bool actuator_recovers : {true, false})
+    for (double wind : {16.0, 21.0}) {
+      auto air = fault("pitch_actuator_2", "high_air_content", 200.0);
+      if (actuator_recovers) air.end = 300.0;
+      auto gain = fault("blade_moment_1", "gain", 400.0);
+      gain.gain = 0.723;
+      auto run = [&](const MonitorConfig& cfg) {
+        plant::TurbineScenario t;
+        t.id = "WT01";
+        t.wind.mean = wind;
+        t.wind.turbulence_intensity = 0.12;
+        t.wind.shear_exponent = 0.15;
+        plant::TurbineSim sim(TurbineParams{}, t, {air, gain}, 9, 100.0);
+        BladeLoadMonitor m(cfg, LoadTable::load_csv(kTable));
+        std::vector<FaultEvent> events;
+        for (int k = 0; k < 480 * 100; ++k) {
+          const FrameSample s = sim.step();
+          if (k == 203 * 100) {
+            InputContext context;
+            context.pitch_actuator_suspect[1] = true;
+            m.set_context(context, s.t);
+          }
+          m.update(s, false, events);
+        }
+        return events;
+      };
+      const auto held = run(config(held_throughout));
+      const auto judged = run(config());
+      const FaultEvent* first = first_raised(judged, "blade_moment_sensor_1", 400.0);
+      std::printf("[measured] %s actuator, %g m/s: held throughout: %s; through the transient only: %s\n",
+                  actuator_recovers ? "recovered" : "faulty", wind, event_sequence(held).c_str(),
+                  event_sequence(judged).c_str());
+      // THEN held for the whole report (as before stop 63: actuator_report_holds) the gain is not seen
+      EXPECT_EQ(first_raised(held, "blade_moment_sensor_1", 400.0), nullptr) << wind;
+      // AND held through the report's transient only (as shipped), it is raised as a step within 5 s; the
+      // reading is true, and while the actuator is faulty its departure from a healthy actuator's response
+      // holds the tests where it matters
+      ASSERT_NE(first, nullptr) << wind << (actuator_recovers ? " recovered" : " faulty");
+      EXPECT_EQ(first->fault, "sensor_abrupt") << first->detail;
+      EXPECT_LE(first->t - 400.0, 5.0) << wind;
+      // AND the slow actuator raises nothing on its own blade's or the third blade's gauge
+      for (const auto& e : judged) EXPECT_EQ(e.component, "blade_moment_sensor_1") << e.fault << " " << e.t;
+    }
+}
+
 TEST(LidarLoss, FallsBackToSensorOnlyAndReportsTheLidar) {
   // GIVEN the LIDAR speeds vanish at 200 s
   const auto r = run_plant(12.0, 0.05, 0.2, 0.0, 230, {}, 5, config(), LoadTable::load_csv(kTable), true);
