@@ -40,9 +40,9 @@ struct SuspectInputConfig {
   bool actuator_report_holds = false;
   double context_hold = 10.0;  ///< s held after another service raised or cleared a fault on an input the
                                ///< model uses (a speed or pitch sensor, an actuator), or the arbiter
-                               ///< reconfigured the controller; held as long as such a fault stays raised
-                               ///< (a fault on one speed sensor: only this long; lambda comes from the
-                               ///< other one)
+                               ///< reconfigured the controller; held as long as a pitch sensor's fault
+                               ///< stays raised (a fault on one speed sensor, or an actuator's unless
+                               ///< actuator_report_holds: only this long; lambda comes from the other one)
 };
 
 class SuspectInputs {

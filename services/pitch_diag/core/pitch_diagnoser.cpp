@@ -257,7 +257,7 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) 
   } else {
     // The blade left healthy somewhere in the hold since its last healthy decision: a leak ramped in over 30
     // s was held 1.0-4.0 s just before its first decision off healthy, was first seen past half-way to the
-    // pump-wear point and reached it in 0.9-3.1 s of excited data, and was named pump_wear (judged suite sets
+    // pump-wear point and reached it in 0.9-3.1 s of excited data, and was named pump_wear (suite sets
     // 222 and 224, three of three ramped leaks named pump_wear first; tuning set 154, one).
     if (!left_healthy_ && cfg_->unseen_from_last_healthy) unseen_since_healthy_ += held_since_healthy_;
     left_healthy_ = true;
