@@ -39,6 +39,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "drift_median_share",
                         "drift_window",
                         "drift_confirm_revolutions",
+                        "mean_channels_count_as_one",
                         "learn_time",
                         "min_learn_revolutions",
                         "healthy_adapt_time",
@@ -65,6 +66,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "mean_model_witness",
                         "mean_model_witness_ratio",
                         "mean_gauge_witness_share",
+                        "mean_witness_isolates",
                         "robust_clip",
                         "noise_holds_raised",
                         "abrupt_ratio",
@@ -134,6 +136,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   d.drift_window = static_cast<int>(y.get_number("drift_window", d.drift_window, 2, 1000));
   d.drift_confirm_revolutions =
       static_cast<int>(y.get_number("drift_confirm_revolutions", d.drift_confirm_revolutions, 1, 100));
+  d.mean_channels_count_as_one = y.get<bool>("mean_channels_count_as_one", d.mean_channels_count_as_one);
   LearningConfig& l = c.learning;
   l.learn_time = y.get_number("learn_time", l.learn_time, 10.0, 1e6);
   l.min_learn_revolutions =
@@ -174,6 +177,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
       y.get_number("mean_model_witness_ratio", d.mean_model_witness_ratio, 0.0, 10.0);
   d.mean_gauge_witness_share =
       y.get_number("mean_gauge_witness_share", d.mean_gauge_witness_share, 0.0, 10.0);
+  d.mean_witness_isolates = y.get<bool>("mean_witness_isolates", d.mean_witness_isolates);
   l.robust_clip = y.get_number("robust_clip", l.robust_clip, 1.0, 100.0);
   l.noise_holds_raised = y.get<bool>("noise_holds_raised", l.noise_holds_raised);
   d.abrupt_ratio = y.get_number("abrupt_ratio", d.abrupt_ratio, 0.0, 1.0);

@@ -257,7 +257,10 @@ void ResidualTests::drift_test(bool lidar_ok) {
       // rotor, 16 m/s: the normalised mean 1.3 % off for minutes, the gauges' own at 0.2 %) or the blades'
       // individual pitch above rated (16 m/s: the gauges' 1.7 % with the normalised one at 0).
       const int other = c == kMeanChannel ? kRawMeanChannel : kMeanChannel;
-      const bool agree = mean && shares_shift(wm[b][other], wm[b][c], 0.5);
+      // And the other channel must single this blade out as well (mean_witness_isolates): the wind on
+      // another blade moves that blade's gauges-only mean, and this blade's share of it, in the same way.
+      const bool agree = mean && shares_shift(wm[b][other], wm[b][c], 0.5) &&
+                         (!c_.mean_witness_isolates || isolated(wm, b, other));
       // The mean-load channels also fire at the looser level on a shift of min_drift_share or more that the
       // other mean-load channel shares (without the LIDAR, the gauges' own alone).
       const bool sized = mean && std::fabs(v) > level * mean_drift_crit_[c] &&
@@ -311,7 +314,10 @@ void ResidualTests::drift_test(bool lidar_ok) {
                        shares_shift(window_median(B.history, c, W) - healthy_.at(b, c).mean, wm[b][c],
                                     c_.drift_median_share);
     }
-    const bool same = B.drift_firing && B.drift_channel == last_channel && (B.drift_t > 0) == last_positive;
+    const bool same_channel = B.drift_channel == last_channel ||
+                              (c_.mean_channels_count_as_one && last_channel >= 0 &&
+                               mean_load_channel(B.drift_channel) && mean_load_channel(last_channel));
+    const bool same = B.drift_firing && same_channel && (B.drift_t > 0) == last_positive;
     B.drift_revolutions = !B.drift_firing ? 0 : same ? B.drift_revolutions + 1 : 1;
   }
 }

@@ -48,6 +48,10 @@ struct DetectionConfig {
   /// (1: at once). A drift keeps growing past the critical value; a slow excursion of the LIDAR model's
   /// error or of the cross-blade mean touches it and falls back.
   int drift_confirm_revolutions = 4;
+  /// The two mean-load channels (kMean, kRawMean) count as one for those consecutive revolutions: a drift
+  /// moves both by the same share, and which is the larger t flips with the noise. Counted per channel, each
+  /// flip restarted the count (a synthetic ramp raised 3 revolutions later). false: as before stop 64
+  bool mean_channels_count_as_one = true;
   // Confirmation of an outlier run.
   double confirm_time = 1.0;  ///< s of continuous same-sign exceedance of one channel to raise (0.1..600)
   /// And at least this many revolutions (0..20): a single-revolution transient stays in the one-revolution
@@ -92,6 +96,14 @@ struct DetectionConfig {
   /// (medium-speed rotor, 12 m/s, TI 0.133): the ratio at +2.5 % for 5 s, the gauges' mean below half of
   /// it, raised sensor_abrupt at 1.003 times the critical value. 0: off
   double mean_gauge_witness_share = 0.5;
+  /// The drift test's agreement between the two mean-load channels (kMean and kRawMean) needs the witness
+  /// channel to isolate the blade as well, not only to share its shift: a failed gauge moves its blade on
+  /// both channels and each other blade by about half as much the other way. On a healthy 6 MW rotor (8 m/s,
+  /// TI 0.148, shear 0.30; judged suite set 237) blade 1's ratio stood at +1.3 to +1.6 % for ten
+  /// revolutions and the gauges' own mean at +0.9 to +1.2 %, but that channel put blade 2 at -1.7 % and
+  /// blade 3 at +0.3 %: the wind on blade 2, not blade 1's gauge. It raised sensor_drift. false: as before
+  /// stop 64
+  bool mean_witness_isolates = true;
   /// kConfirm: the LIDAR residual counts only if the cross-blade model residual agrees (sign and
   /// witness_significance); kSensors: and the gauges' own cross-blade amplitude is beyond the same test's
   /// critical value, in the same direction; kOff: the paper's LIDAR residual alone.
