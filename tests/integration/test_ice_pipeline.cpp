@@ -96,12 +96,14 @@ TEST(IceReplay, PlantRecordingTracksTheAccretionAndFlagsTheShedding) {
     std::getline(ls, mass, ',');
     const double time = std::stod(t), ice_mass = std::stod(mass);
     // AND the ice mass follows the ramp a window and half a median late (90 s; measured rms 380-610 kg over
-    // seeds 41-43), and is right after the shedding once the window holds none of what fell
+    // seeds 41-43), and is right after the shedding once the window holds none of what fell: a window and
+    // half a median (150 s) after the step in the power model's balance is seen, 2035-2041 s (the later
+    // since stop 65, whose step threshold is as wide as the balance's wander learned within 3 of its RMS)
     if (time >= 900.0 && time < 2000.0) {
       sum_sq += std::pow(ice_mass - scenario_ice(time - 90.0), 2);
       ++during;
     }
-    if (time >= 2180.0) worst_after = std::max(worst_after, std::fabs(ice_mass - scenario_ice(time)));
+    if (time >= 2195.0) worst_after = std::max(worst_after, std::fabs(ice_mass - scenario_ice(time)));
   }
   EXPECT_GE(rows, 2290);
   ASSERT_GT(during, 1000);

@@ -59,6 +59,7 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
                         "power_window",
                         "power_step_window",
                         "power_step",
+                        "power_step_spread",
                         "shed_power_step",
                         "shed_power_confirm",
                         "shed_power_keep",
@@ -84,6 +85,7 @@ DetectorConfig load_detector_config(const YamlSection& s, const TurbineParams& t
   e.power_window = s.get_number("power_window", e.power_window, 0.0, 3600.0);
   e.power_step_window = s.get_number("power_step_window", e.power_step_window, 10.0, e.power_window);
   e.power_step = s.get_number("power_step", e.power_step, 0.0, 0.5);
+  e.power_step_spread = s.get<bool>("power_step_spread", e.power_step_spread);
   c.shed_power_step = s.get_number("shed_power_step", c.shed_power_step, 0.0, 0.5);
   c.shed_power_confirm = s.get_number("shed_power_confirm", c.shed_power_confirm, 0.0, 59.0);
   c.shed_power_keep = s.get_number("shed_power_keep", c.shed_power_keep, 0.0, 2.0);

@@ -80,14 +80,29 @@ void InertiaEstimator::calibrate() {
   const double before = energy_balance_scale(step_seconds, span - step_seconds);
   if (recent <= 0.0 || before <= 0.0) return;
   // The recent balance wanders with the operating point (at 20 m/s several times more than at 10): a step
-  // must stand out of its own wandering as well as exceed power_step.
+  // must stand out of its own wandering as well as exceed power_step. Its departure is a difference of two
+  // means, whose variance grows as the before-balance shortens: seconds after a restart (60 s before) it is
+  // 1.6 times that of a full calibration (240 s before). power_wander_ is kept as a full calibration's, each
+  // departure counted by its spread relative to that, so that every span teaches it alike and each span's
+  // threshold is as wide as its own noise (a 6 MW rotor's wander at 60 s before crossed a fixed 1 % every
+  // two minutes and kept its regression from ever filling).
   const double departure = recent / before - 1.0;
-  const double threshold = std::max(cfg_.power_step, cfg_.power_step_sigmas * std::sqrt(power_wander_));
+  const auto spread_of = [step_seconds](std::size_t seconds) {
+    return 1.0 + static_cast<double>(step_seconds) / static_cast<double>(seconds - step_seconds);
+  };
+  const double spread = cfg_.power_step_spread ? spread_of(span) / spread_of(seconds_.size()) : 1.0;
+  const double threshold =
+      std::max(cfg_.power_step, cfg_.power_step_sigmas * std::sqrt(power_wander_ * spread));
   power_unsettled_ = std::fabs(departure) > 0.5 * threshold;
   if (std::fabs(departure) <= threshold) {
-    // Only the quiet seconds teach the wandering: a step on its way up would raise its own threshold.
-    if (!power_unsettled_)
-      power_wander_ += (departure * departure - power_wander_) / std::max(1.0, cfg_.power_wander_time);
+    // Only the quiet seconds teach the wandering: a step on its way up would raise its own threshold. Quiet
+    // is within 3 of its RMS: within half the threshold (power_step_spread false), where the threshold is
+    // power_step's floor, the seconds left out were the wandering's own wide ones, and a 6 MW rotor's wander
+    // read 0.2 % where it was 0.3 %.
+    const double quiet = cfg_.power_step_spread ? 3.0 * std::sqrt(power_wander_ * spread) : 0.5 * threshold;
+    if (std::fabs(departure) <= quiet)
+      power_wander_ +=
+          (departure * departure / spread - power_wander_) / std::max(1.0, cfg_.power_wander_time);
   } else {
     last_power_step_ = departure;
     scale_before_step_ = before;

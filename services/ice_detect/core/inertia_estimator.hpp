@@ -22,8 +22,11 @@ struct EstimatorConfig {
       0.01;  ///< relative step of that balance from the calibration that restarts both (0: off)
   double power_step_sigmas = 5.0;     ///< ... and at least this many times its RMS wandering
   double power_wander_time = 1800.0;  ///< s, time constant of that RMS
-  double friction = 45.6;             ///< b (N m s/rad): generator-side friction (Witczak et al. Table I B_g)
-  double nominal_inertia = 6484.0;    ///< kg m^2 generator side: prior for the excitation measure
+  /// Threshold widened for a shorter before-balance, wander learned from the seconds within 3 of its RMS
+  /// (false: learned within half the threshold, one width for every span)
+  bool power_step_spread = true;
+  double friction = 45.6;           ///< b (N m s/rad): generator-side friction (Witczak et al. Table I B_g)
+  double nominal_inertia = 6484.0;  ///< kg m^2 generator side: prior for the excitation measure
 };
 
 /// Windowed least squares for theta = 1/J on the accumulated regressor psi (eqs 4-7). Per sample: generator

@@ -114,6 +114,51 @@ TEST(InertiaEstimator, AStepInCpRecalibratesAndRestartsTheRegression) {
   EXPECT_NEAR(est.inertia(), J, 0.01 * J);
 }
 
+// The one-mass model with gusts whose power model wanders by `wander` RMS (a first-order lag of white noise,
+// 60 s time constant, as the anemometer's model error moves with the operating point) and whose rotor loses
+// `cp_loss` of its Cp at `step_at` s. Returns the estimator after `seconds`; `changes_before_step`: the power
+// steps it saw before the Cp step.
+InertiaEstimator wandering_power_model(bool spread, double wander, double cp_loss, double step_at,
+                                       double seconds, uint64_t* changes_before_step) {
+  EstimatorConfig c = one_mass(EstimatorConfig{}.power_window);
+  c.power_step_spread = spread;
+  InertiaEstimator est(c);
+  const double J = 6484.0, dt = 0.01, lag = 60.0;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> white(0.0, 1.0);
+  double omega = 150.0, error = 0.0;
+  for (int k = 0; k * dt < seconds; ++k) {
+    const double t = k * dt;
+    if (k % 100 == 0)  // once a second: a lag of white noise whose steady RMS is `wander`
+      error += -error / lag + wander * std::sqrt(2.0 / lag) * white(rng);
+    const double cp = t < step_at ? 1.0 : 1.0 - cp_loss;
+    const double tg = 30000.0 * cp;
+    const double true_power =
+        omega * (30000.0 + 3000.0 * std::sin(0.3 * t) + 1500.0 * std::sin(1.1 * t + 1.0)) * cp;
+    est.update(omega, true_power / cp * (1.0 + error), tg);
+    if (t < step_at) *changes_before_step = est.power_changes();
+    for (int s = 0; s < 10; ++s) omega += (true_power / omega - tg) / J * dt / 10.0;
+  }
+  return est;
+}
+
+TEST(InertiaEstimator, APowerModelThatWandersIsNoStepButACpStepStillIs) {
+  // GIVEN a power model wandering by 0.8 % RMS over a minute, for an hour without any step in the Cp
+  uint64_t quiet_rule = 0, spread_rule = 0;
+  wandering_power_model(false, 0.008, 0.0, 1e9, 3600.0, &quiet_rule);
+  wandering_power_model(true, 0.008, 0.0, 1e9, 3600.0, &spread_rule);
+  // THEN the threshold learned from the quiet seconds alone, one width for every span, took the wander for
+  // steps (measured: 6 in the hour, each restarting the regression), the spread rule for none
+  EXPECT_GE(quiet_rule, 3u);
+  EXPECT_LE(spread_rule, 1u);
+  // WHEN the rotor loses 4 % of its Cp at 2400 s
+  uint64_t before_step = 0;
+  const auto est = wandering_power_model(true, 0.008, 0.04, 2400.0, 2520.0, &before_step);
+  // THEN within two minutes the step is seen once, and measured on the new aerodynamics as a 4 % loss
+  EXPECT_EQ(est.power_changes(), before_step + 1);
+  EXPECT_NEAR(est.last_power_step(), -0.04, 0.01);
+}
+
 // Runs the detector on a plant turbine; `model_power`: aerodynamic power from the model on measured wind,
 // rotor speed and pitch (the DDS path) instead of the recording's true value.
 struct PlantRun {
@@ -454,8 +499,10 @@ const FaultEvent* shedding_raised(const PlantRun& r, double from, double to) {
 TEST(IceDetector, SheddingOfIceThatWasThereIsFlaggedWithinAMinute) {
   // GIVEN 3000 kg of ice of which 40 % (1200 kg, -3.3 % inertia, +2.4 % Cp) falls off at 700 s
   // (tests/perf/ice_detect_plant: 8 of 9 runs within 60 s; the ninth, at 8 m/s, 96 s: the Cp comes back
-  // over a minute and a half there while the rotor speeds up to its new operating point, as seed 37 here)
-  for (const auto& [wind, seed, limit] : {std::tuple{10.0, 35, 60.0}, {12.0, 36, 60.0}, {10.0, 37, 90.0}}) {
+  // over a minute and a half there while the rotor speeds up to its new operating point, as seed 37 here:
+  // 70 s before stop 65, 94 s since, its balance peaking at 1.06 % against a step threshold of 1.10 %, up
+  // from 1.05 % now that the wander is learned within 3 of its RMS)
+  for (const auto& [wind, seed, limit] : {std::tuple{10.0, 35, 60.0}, {12.0, 36, 60.0}, {10.0, 37, 100.0}}) {
     // THEN ice_shedding is raised within 60 s of the drop by the Cp it gives back (the inertia's witness held
     // out of reach), and not before it ...
     const auto cp =
@@ -465,10 +512,11 @@ TEST(IceDetector, SheddingOfIceThatWasThereIsFlaggedWithinAMinute) {
     EXPECT_NE(e->detail.find("power coefficient up"), std::string::npos) << e->detail;
     EXPECT_EQ(shedding_raised(cp, 0.0, 700.0), nullptr) << describe(cp);
     // ... sized from the Cp the seconds after the step kept (as first seen, the step read 1.1-1.3 % of Cp,
-    // about 550 kg), dated when the step was seen
+    // about 550 kg), within half the ice shed: 10-16 s of balance measure it (702-1216 kg; seed 36 read 886
+    // kg before stop 65, its step seen a second earlier), dated when the step was seen
     std::printf("[measured] Cp witness, %g m/s seed %d: raised %.0f s after the drop, dated %.0f s: %s\n",
                 wind, seed, e->t - 700.0, e->t_detected - 700.0, e->detail.c_str());
-    EXPECT_NEAR(e->size, 1200.0, 400.0) << e->detail;
+    EXPECT_NEAR(e->size, 1200.0, 600.0) << e->detail;
     EXPECT_GE(e->t_detected, 700.0);
     EXPECT_LE(e->t_detected, e->t - 9.0) << e->detail;  // shed_power_confirm: ten seconds in a row
     // ... and with both witnesses as shipped as soon or sooner (the inertia's, in windows of at least a
@@ -1040,6 +1088,7 @@ TEST(IceDetector, AStopLevelReadFromBarelyExcitedWindowsDoesNotStopTheTurbine) {
   // WHEN every fresh second counts fully toward critical_confirm_time (critical_excitation 1, before stop 50)
   YAML::Node every_second = YAML::Clone(shipped_file);
   every_second["critical_excitation"] = 1.0;
+  every_second["power_step_spread"] = false;  // and the power step's threshold as before stop 65
   const auto before =
       run_turbine(t, 2700, true, {ice}, 2, YamlSection(every_second, "ice_detect.yaml"), {}, TurbineParams{});
   // THEN critical is raised (the arbiter stops the turbine 90 s later)
@@ -1064,6 +1113,7 @@ TEST(IceDetector, AnOvershootOfTheStopLevelIsLoweredWhenTheEstimateFallsBackBelo
       YAML::LoadFile(std::string(WINDFDI_SOURCE_DEPLOY_DIR) + "/config/ice_detect.yaml");
   YAML::Node every_second = YAML::Clone(shipped_file);
   every_second["critical_excitation"] = 1.0;
+  every_second["power_step_spread"] = false;  // and the power step's threshold as before stop 65
   auto ice = plant::FaultSpec::make("WT03", "rotor", "ice_accretion", 2255).with_value(2531);
   ice.ramp_in = 300;
   const auto t = healthy_suite_turbine("WT03", 9.0, 0.085, 0.213, 0.03);
@@ -1144,7 +1194,8 @@ TEST(IceDetector, AGustThatCrossesTheStepThresholdOnAnIcedRotorIsNoShedding) {
     const auto turbine = healthy_suite_turbine(c.id, c.wind, c.turbulence_intensity, c.shear_exponent, 0.03);
     // THEN taken at once, as before stop 55, the step is a shedding (1455 and 1879 s; 2638 s; 1986 s) ...
     const auto at_once =
-        run_turbine(turbine, 2700, true, {ice}, c.seed, config("shed_power_confirm: 0"), {}, TurbineParams{});
+        run_turbine(turbine, 2700, true, {ice}, c.seed,
+                    config("{shed_power_confirm: 0, power_step_spread: false}"), {}, TurbineParams{});
     const FaultEvent* e = shedding_raised(at_once, 0.0, 2700.0);
     ASSERT_NE(e, nullptr) << c.wind << " m/s\n" << describe(at_once);
     EXPECT_NE(e->detail.find("power coefficient up"), std::string::npos) << e->detail;
@@ -1177,7 +1228,8 @@ TEST(IceDetector, OnARotorWhoseIceTakesCpAnInertiaFallWithoutTheCpBackIsNoSheddi
     const auto turbine = healthy_suite_turbine(c.id, c.wind, c.turbulence_intensity, c.shear_exponent, 0.03);
     // THEN without the Cp's testimony the fall is a shedding ...
     const auto alone =
-        run_turbine(turbine, 2700, true, {ice}, 16100, config("shed_inertia_cp_share: 0"), {}, c.params);
+        run_turbine(turbine, 2700, true, {ice}, 16100,
+                    config("{shed_inertia_cp_share: 0, power_step_spread: false}"), {}, c.params);
     const FaultEvent* e = shedding_raised(alone, 0.0, 2700.0);
     ASSERT_NE(e, nullptr) << c.wind << " m/s\n" << describe(alone);
     EXPECT_NE(e->detail.find("inertia fell"), std::string::npos) << e->detail;
