@@ -2,6 +2,7 @@
 #include "drive_train_diagnoser.hpp"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace windfdi::drive_train {
@@ -14,7 +15,8 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
                         "efficiency_clear_ratio", "efficiency_clear_time", "efficiency_confirm_time", "min_power_share", "max_pitch_wind",
                         "min_generator_speed", "min_generator_speed_share", "max_torque", "max_generator_speed", "max_power",
                         "sample_time", "iced_inertia_ratio", "efficiency_step_shape", "speed_pair_mismatch", "speed_pair_time", "inertia_ratio_floor", "context_lookback",
-                        "max_bridged_gap", "rotor_speed_fallback"});
+                        "max_bridged_gap", "rotor_speed_fallback", "rotor_speed_noise_sigmas", "rotor_speed_noise_time",
+                        "rotor_speed_noise_min_time"});
   // clang-format on
   DiagnoserConfig c;
   c.sample_time = s.get_number("sample_time", c.sample_time, 1e-4, 1.0);
@@ -57,6 +59,12 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
   c.speed_pair_mismatch = s.get_number("speed_pair_mismatch", c.speed_pair_mismatch, 0.0, 1.0);
   c.speed_pair_time = s.get_number("speed_pair_time", c.speed_pair_time, 0.1, 60.0);
   c.rotor_speed_fallback = s.get<bool>("rotor_speed_fallback", c.rotor_speed_fallback);
+  c.rotor_speed_noise_sigmas =
+      s.get_number("rotor_speed_noise_sigmas", c.rotor_speed_noise_sigmas, 0.0, 20.0);
+  c.rotor_speed_noise_time =
+      s.get_number("rotor_speed_noise_time", c.rotor_speed_noise_time, e.block_time, 1e6);
+  c.rotor_speed_noise_min_time =
+      s.get_number("rotor_speed_noise_min_time", c.rotor_speed_noise_min_time, e.block_time, 1e6);
   e.inertia_ratio_floor = s.get_number("inertia_ratio_floor", e.inertia_ratio_floor, 0.0, 1.0);
   v.min_generator_speed = e.min_generator_speed;
   c.estimate_rate = s.get_number("estimate_rate", c.estimate_rate, 0.01, 100.0);
@@ -74,8 +82,31 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
 DriveTrainDiagnoser::DriveTrainDiagnoser(const DiagnoserConfig& config, const AeroModel& aero)
     : c_(config),
       converter_(config.converter, config.sample_time),
-      efficiency_(config.efficiency, config.sample_time),
-      aero_power_(aero, config.wind_window, config.sample_time) {}
+      balance_(config, aero, config.efficiency),
+      rotor_shadow_(config, aero, [&] {
+        EfficiencyConfig e = config.efficiency;
+        e.step = 1.0;  // it learns; it never raises (a raised test freezes its reference)
+        return e;
+      }()) {
+  rotor_shadow_.power.set_speed_average(true);
+}
+
+double DriveTrainDiagnoser::rotor_speed_drop_rms() const {
+  const double min_blocks = c_.rotor_speed_noise_min_time / c_.efficiency.block_time;
+  return shadow_blocks_ + 1e-9 >= min_blocks ? std::sqrt(shadow_drop_square_) : 0.0;
+}
+
+void DriveTrainDiagnoser::update_step() {
+  double step = c_.efficiency.step;
+  if (on_rotor_speed(context_) && c_.rotor_speed_noise_sigmas > 0.0) {
+    // Its noise not learned yet (a generator-speed fault within minutes of a start), the fallback's
+    // balance runs and judges nothing.
+    const double rms = rotor_speed_drop_rms();
+    step = rms > 0.0 ? std::max(step, c_.rotor_speed_noise_sigmas * rms)
+                     : std::numeric_limits<double>::infinity();
+  }
+  balance_.monitor.set_step(step);
+}
 
 void DriveTrainDiagnoser::set_context(const InputContext& context, double) {
   const bool was_on_rotor = on_rotor_speed(context_);
@@ -88,11 +119,13 @@ void DriveTrainDiagnoser::set_context(const InputContext& context, double) {
       newly_suspect || (was_on_rotor && context.rotor_speed_suspect && !context_.rotor_speed_suspect);
   for (std::size_t i = 0; i < kBlades; ++i)
     newly_suspect = newly_suspect || (context.pitch_sensor_suspect[i] && !context_.pitch_sensor_suspect[i]);
-  if (newly_suspect) efficiency_.discard_recent(c_.context_lookback);
+  if (newly_suspect) balance_.monitor.discard_recent(c_.context_lookback);
   if (was_on_rotor != on_rotor_speed(context)) source_switch_t_ = t_;
   context_ = context;
-  aero_power_.set_absent(context.absent, c_.fixed_pitch);
-  aero_power_.set_speed_average(on_rotor_speed(context));
+  balance_.power.set_absent(context.absent, c_.fixed_pitch);
+  balance_.power.set_speed_average(on_rotor_speed(context));
+  rotor_shadow_.power.set_absent(context.absent, c_.fixed_pitch);
+  update_step();
 }
 
 bool DriveTrainDiagnoser::update(const FrameSample& s, bool gap, std::vector<FaultEvent>& events) {
@@ -128,7 +161,7 @@ bool DriveTrainDiagnoser::update(const FrameSample& s, bool gap, std::vector<Fau
       const bool disagree = rotor * c_.efficiency.gear_ratio > c_.efficiency.min_generator_speed &&
                             std::fabs(generator - rotor) > c_.speed_pair_mismatch * rotor;
       if (disagree && !speeds_disagree_) {
-        efficiency_.discard_recent(c_.context_lookback);
+        balance_.monitor.discard_recent(c_.context_lookback);
         ++disagreements_;
       }
       speeds_disagree_ = disagree;
@@ -155,18 +188,12 @@ bool DriveTrainDiagnoser::update(const FrameSample& s, bool gap, std::vector<Fau
   fed.rotor_speed = balanced ? balance_speed / c_.efficiency.gear_ratio : kNaN;
   fed.aero_power = kNaN;  // the model's power, never a recording's column: the balance tests the model
   FrameSample centre;
-  bool centre_gap = false;
   double aero_power = kNaN;
-  if (aero_power_.push(fed, gap || !balanced, centre, centre_gap, aero_power)) {
+  bool broken = false;
+  uint64_t lost = 0;
+  if (centre_sample(balance_, fed, gap || !balanced, centre, aero_power, broken, lost)) {
     double pitch = 0.0;
     for (std::size_t i = 0; i < kBlades; ++i) pitch += centre.pitch[i] / kBlades;
-    // A short hole of lost samples leaves the block running with its span counted (ending the block on
-    // each, 20 samples lost every few seconds let no 5 s block ever close).
-    const bool bridged = centre_gap && bridgeable_hole(last_centre_sequence_, last_centre_t_, centre.sequence,
-                                                       centre.t, c_.max_bridged_gap);
-    const uint64_t lost = bridged ? samples_lost(last_centre_sequence_, centre.sequence) : 0;
-    last_centre_t_ = centre.t;
-    last_centre_sequence_ = centre.sequence;
     // The rotor's sensor is averaged over the wind window (centred): its noise, 50 times the generator's
     // divided by N, read at the blocks' 0.5 s ends put 4 % rms into the drop at 6 m/s. No block spans a
     // change of sensor: the samples whose window holds both are left out.
@@ -174,12 +201,13 @@ bool DriveTrainDiagnoser::update(const FrameSample& s, bool gap, std::vector<Fau
     const bool switching = centre.t <= source_switch_t_ + 0.5 * c_.wind_window + 1e-9;
     if (!switching) source_switch_t_ = kNaN;
     const bool forget = context_.generator_speed_suspect && !on_rotor;
-    const bool usable = !forget && !speeds_disagree_ && !switching && (!centre_gap || bridged) &&
-                        !context_.turbine_stopped && std::isfinite(centre.rotor_speed);
-    efficiency_.update(centre.gen_torque, centre.generator_speed, aero_power, pitch, usable, forget,
-                       static_cast<std::size_t>(lost));
+    const bool usable = !forget && !speeds_disagree_ && !switching && !broken && !context_.turbine_stopped &&
+                        std::isfinite(centre.rotor_speed);
+    balance_.monitor.update(centre.gen_torque, centre.generator_speed, aero_power, pitch, usable, forget,
+                            static_cast<std::size_t>(lost));
     report_efficiency(centre.t, events);
   }
+  update_rotor_shadow(fed, rotor_reading, gap, torques && !placed && !speeds_disagree_ && !on_rotor);
   return plausible;
 }
 
@@ -199,6 +227,54 @@ FaultEvent warning(double t, const char* component, const char* fault, bool rais
 }
 }  // namespace
 
+bool DriveTrainDiagnoser::centre_sample(Balance& b, const FrameSample& fed, bool gap, FrameSample& centre,
+                                        double& aero_power, bool& broken, uint64_t& lost) const {
+  bool centre_gap = false;
+  if (!b.power.push(fed, gap, centre, centre_gap, aero_power)) return false;
+  // A short hole of lost samples leaves the block running with its span counted (ending the block on
+  // each, 20 samples lost every few seconds let no 5 s block ever close).
+  const bool bridged = centre_gap && bridgeable_hole(b.last_centre_sequence, b.last_centre_t, centre.sequence,
+                                                     centre.t, c_.max_bridged_gap);
+  lost = bridged ? samples_lost(b.last_centre_sequence, centre.sequence) : 0;
+  broken = centre_gap && !bridged;
+  b.last_centre_t = centre.t;
+  b.last_centre_sequence = centre.sequence;
+  return true;
+}
+
+void DriveTrainDiagnoser::update_rotor_shadow(FrameSample fed, double rotor, bool gap, bool speeds_healthy) {
+  // The rotor's sensor beside omega_g / N, each block's drop against its own reference: what the fallback's
+  // test would read on this turbine in this wind, were nothing wrong. Fed only while both sensors agree and
+  // neither is reported, so that a speed fault teaches it nothing.
+  if (c_.rotor_speed_noise_sigmas <= 0.0) return;
+  const bool ok = speeds_healthy && std::isfinite(rotor) && rotor >= 0.0 &&
+                  rotor * c_.efficiency.gear_ratio <= c_.max_generator_speed;
+  fed.rotor_speed = ok ? rotor : kNaN;
+  FrameSample centre;
+  double aero_power = kNaN;
+  bool broken = false;
+  uint64_t lost = 0;
+  if (!centre_sample(rotor_shadow_, fed, gap || !ok, centre, aero_power, broken, lost)) return;
+  double pitch = 0.0;
+  for (std::size_t i = 0; i < kBlades; ++i) pitch += centre.pitch[i] / kBlades;
+  const bool usable = !broken && !context_.turbine_stopped && std::isfinite(centre.rotor_speed);
+  const EfficiencyState& st =
+      rotor_shadow_.monitor.update(centre.gen_torque, centre.rotor_speed * c_.efficiency.gear_ratio,
+                                   aero_power, pitch, usable, !ok, static_cast<std::size_t>(lost));
+  if (st.tests == shadow_tests_seen_) return;
+  shadow_tests_seen_ = st.tests;
+  // What the rotor's sensor adds: its drop less the generator's balance's, which a real loss moves alike
+  // (learned on its own drop, an efficiency loss 20 minutes before raised the fallback's step to 6.7 % and a
+  // second loss inside a generator-speed fault went unseen until the fault ended, tuning set 152).
+  const EfficiencyState& main = balance_.monitor.state();
+  if (!main.ready || main.raised) return;
+  const double extra = st.drop - main.drop;
+  const double memory = c_.rotor_speed_noise_time / c_.efficiency.block_time;
+  shadow_blocks_ = std::min(shadow_blocks_ + 1.0, memory);
+  shadow_drop_square_ += (extra * extra - shadow_drop_square_) / shadow_blocks_;
+  update_step();
+}
+
 void DriveTrainDiagnoser::report_converter(double t, std::vector<FaultEvent>& events) {
   const ConverterState& st = converter_.state();
   if (!st.changed) return;
@@ -214,11 +290,11 @@ void DriveTrainDiagnoser::report_converter(double t, std::vector<FaultEvent>& ev
 }
 
 void DriveTrainDiagnoser::report_efficiency(double t, std::vector<FaultEvent>& events) {
-  const EfficiencyState& st = efficiency_.state();
+  const EfficiencyState& st = balance_.monitor.state();
   if (!st.changed) return;
   FaultEvent e = warning(t, "drive_train", "efficiency_loss", st.raised, efficiency_since_);
   e.statistic = st.drop;
-  e.threshold = c_.efficiency.step;
+  e.threshold = balance_.monitor.step();
   e.size = st.drop;
   std::ostringstream d;
   d.precision(3);
@@ -233,7 +309,7 @@ bool DriveTrainDiagnoser::estimate_due(DriveTrainOutput& out) {
   have_estimate_ = true;
   next_estimate_ = t_ + 1.0 / c_.estimate_rate;
   const ConverterState& cv = converter_.state();
-  const EfficiencyState& ef = efficiency_.state();
+  const EfficiencyState& ef = balance_.monitor.state();
   out.t = t_;
   out.torque_offset = cv.raised ? cv.offset : cv.residual_mean;
   out.torque_statistic = cv.statistic;

@@ -12,7 +12,8 @@ namespace windfdi::drive_train {
 EfficiencyMonitor::EfficiencyMonitor(const EfficiencyConfig& config, double sample_time)
     : c_(config),
       dt_(sample_time),
-      edge_(std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(0.5 / sample_time)))) {}
+      edge_(std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(0.5 / sample_time)))),
+      step_(config.step) {}
 
 const EfficiencyState& EfficiencyMonitor::update(double tg, double wg, double aero_power, double pitch,
                                                  bool usable, bool forget, std::size_t lost) {
@@ -167,6 +168,7 @@ void EfficiencyMonitor::evaluate() {
   // Raised, the reference is frozen: the newest blocks alone say whether the loss is gone.
   if (blocks_.size() < (state_.raised ? test : test + gap + reference)) return;
   state_.ready = true;
+  ++state_.tests;
   if (!state_.raised) state_.inertia_ratio = fitted_inertia_ratio(test + gap, reference);
   // A rotor weighs at least what it weighs clean. Below it, the fit took the anemometer's error for inertia:
   // in light turbulent wind (7.2 m/s, TI 0.16, the medium-speed rotor, judged suite seed 128) the inertia
@@ -182,7 +184,7 @@ void EfficiencyMonitor::evaluate() {
     // A drop must hold for confirm_time: a generator-speed sensor's step puts its whole size into one block's
     // speed change (suite seeds 143-148: 10 efficiency reports 1-2 s after a generator-speed bias or gain,
     // before sensor_bias's report discarded the blocks; one sent the turbine to degraded mode for 4 s).
-    const bool dropped = state_.drop > c_.step && state_.inertia_ratio <= c_.iced_inertia_ratio &&
+    const bool dropped = state_.drop > step_ && state_.inertia_ratio <= c_.iced_inertia_ratio &&
                          (!c_.step_shape || step_shaped(weighed));
     if (!dropped) {
       drop_since_ = -1.0;
@@ -197,7 +199,7 @@ void EfficiencyMonitor::evaluate() {
     }
     return;
   }
-  if (state_.drop < c_.clear_ratio * c_.step) {
+  if (state_.drop < c_.clear_ratio * step_) {
     if (good_since_ < 0.0) good_since_ = t_;
     if (t_ - good_since_ >= c_.clear_time) {
       regime_from_ = good_since_;

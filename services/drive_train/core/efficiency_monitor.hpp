@@ -3,6 +3,7 @@
 // model gives for the measured wind, pitch and speed, in blocks, and a test for a step down of their ratio.
 #pragma once
 
+#include <cstdint>
 #include <deque>
 #include <vector>
 
@@ -57,6 +58,7 @@ struct EfficiencyState {
   double reference = 0.0;      ///< mean ratio of the reference blocks (frozen while raised)
   double drop = 0.0;           ///< (reference - efficiency) / reference
   double inertia_ratio = 1.0;  ///< rotor inertia fitted on the reference blocks over the clean rotor's
+  uint64_t tests = 0;          ///< blocks the test has judged (one per block once ready)
 };
 
 /// Least-squares fits of a series y(x), each as its residual sum of squares: the best single step (two
@@ -76,6 +78,10 @@ class EfficiencyMonitor {
   const EfficiencyState& update(double gen_torque, double generator_speed, double aero_power, double pitch,
                                 bool usable, bool forget, std::size_t lost = 0);
   const EfficiencyState& state() const { return state_; }
+  /// The drop that is raised, from now on (the config's `step` until set; never below it is the caller's
+  /// rule): the balance on a noisier speed sensor needs a larger one.
+  void set_step(double step) { step_ = step; }
+  double step() const { return step_; }
   /// Drops the block in progress and the blocks of the last `seconds`: an input turned out suspect, and
   /// the blocks before its report may hold its error.
   void discard_recent(double seconds);
@@ -108,6 +114,7 @@ class EfficiencyMonitor {
   double t_ = 0.0, good_since_ = -1.0, drop_since_ = -1.0;
   double regime_from_ = -1e300;  // s: the shape test fits no block before the last loss's end (its clear)
   EfficiencyState state_;
+  double step_;  // the drop that is raised (c_.step unless set_step)
 };
 
 }  // namespace windfdi::drive_train

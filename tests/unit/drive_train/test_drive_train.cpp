@@ -776,18 +776,20 @@ TEST(DriveTrainDiagnoser, AnEfficiencyStepDuringAGeneratorSpeedFaultIsRaisedOnTh
 
 TEST(DriveTrainDiagnoser, OnTheRotorsSpeedSensorHealthyHoursRaiseNothing) {
   // GIVEN each shipped turbine at 6, 12 and 20 m/s (turbulence 0.12) for 25 minutes, healthy, the generator
-  // speed reported from 200 s on (the balance on the rotor's sensor, 50 times noisier than omega_g / N)
+  // speed reported from 400 s on (the balance on the rotor's sensor, 50 times noisier than omega_g / N; the
+  // balance beside it on that sensor has learned its noise for about 200 s)
   const YamlSection yaml = YamlSection::load_file(kDeploy + "/config/drive_train.yaml");
   InputContext suspect;
   suspect.generator_speed_suspect = true;
-  for (const std::string file :
-       {"benchmark_4.8MW.yaml", "example_2MW.yaml", "example_3MW_medium_speed.yaml"}) {
+  for (const std::string file : {"benchmark_4.8MW.yaml", "example_2MW.yaml", "example_3MW_medium_speed.yaml",
+                                 "example_6MW.yaml", "example_1.5MW.yaml"}) {
     const TurbineParams turbine = load_turbine_params_file(kDeploy + "/turbine/" + file);
     const DiagnoserConfig c = load_diagnoser_config(yaml, turbine);
     for (const double wind : {6.0, 12.0, 20.0}) {
-      const auto drops = [&](bool reported) {
+      const auto drops = [&](bool reported, double& step) {
         const Hook report = [&](FrameSample& s, DriveTrainDiagnoser& d) {
-          if (reported && std::fabs(s.t - 200.0) < 0.5 * kDt) d.set_context(suspect, s.t);
+          if (reported && std::fabs(s.t - 400.0) < 0.5 * kDt) d.set_context(suspect, s.t);
+          step = d.efficiency_step();
         };
         const auto r =
             run_turbine(turbine, c, wind, 0.12, 1500.0, {}, 880 + static_cast<uint64_t>(wind), 0.0, report);
@@ -797,24 +799,66 @@ TEST(DriveTrainDiagnoser, OnTheRotorsSpeedSensorHealthyHoursRaiseNothing) {
         double sum = 0.0, largest = 0.0;
         int n = 0;
         for (const auto& o : r.estimates)
-          if (o.t > 500.0 && std::isfinite(o.efficiency)) {
+          if (o.t > 700.0 && std::isfinite(o.efficiency)) {
             const double drop = (o.efficiency_reference - o.efficiency) / o.efficiency_reference;
             sum += drop * drop, largest = std::max(largest, drop), ++n;
           }
-        EXPECT_GT(n, 9000) << file << " " << wind;
+        EXPECT_GT(n, 7000) << file << " " << wind;
         return std::pair{std::sqrt(sum / std::max(n, 1)), largest};
       };
-      const auto [rms_g, largest_g] = drops(false);
-      const auto [rms_r, largest_r] = drops(true);
+      double step_g = 0.0, step_r = 0.0;
+      const auto [rms_g, largest_g] = drops(false, step_g);
+      const auto [rms_r, largest_r] = drops(true, step_r);
       std::printf(
-          "[ measured ] %s, %.0f m/s: drop rms %.2f %%, largest %.2f %% on the rotor's sensor; %.2f %%, "
-          "%.2f %% on the generator's\n",
-          file.c_str(), wind, 100 * rms_r, 100 * largest_r, 100 * rms_g, 100 * largest_g);
-      // AND the drop stays below the step on the rotor's sensor (averaged over the wind window: read raw at
-      // the blocks' ends, its rms at 6 m/s was 2.3-4.1 % and it raised efficiency_loss on all three turbines)
-      EXPECT_LT(largest_r, c.efficiency.step) << file << " " << wind;
+          "[ measured ] %s, %.0f m/s: drop rms %.2f %%, largest %.2f %%, step %.2f %% on the rotor's sensor; "
+          "%.2f %%, %.2f %% on the generator's\n",
+          file.c_str(), wind, 100 * rms_r, 100 * largest_r, 100 * step_r, 100 * rms_g, 100 * largest_g);
+      // AND the drop stays below the step on each sensor (on the rotor's averaged over the wind window: read
+      // raw at the blocks' ends, its rms at 6 m/s was 2.3-4.1 % and it raised efficiency_loss on all three
+      // turbines then shipped). On the rotor's the step is the learned noise's when larger: the 6 MW rotor at
+      // 6 m/s read 2.4 % rms there, up to 5.2 %, and raised efficiency_loss with the step alone (judged fault
+      // set 253, 7.2 m/s: 3.6 % raised at the end of a generator-speed bias)
+      EXPECT_EQ(step_g, c.efficiency.step) << file << " " << wind;
+      EXPECT_GE(step_r, c.efficiency.step) << file << " " << wind;
+      EXPECT_LT(largest_g, step_g) << file << " " << wind;
+      EXPECT_LT(largest_r, step_r) << file << " " << wind;
     }
   }
+}
+
+TEST(DriveTrainDiagnoser, AnEfficiencyLossBeforeLeavesTheRotorsSensorsStepAlone) {
+  // GIVEN the benchmark turbine at 13.7 m/s whose drive train lost 8 % from 300 to 450 s (raised, cleared),
+  // then a generator-speed gain from 1000 s, reported 10 s later, and a second loss to 0.92 at 1060 s (tuning
+  // set 152, 20.6 m/s: the balance beside on the rotor's sensor had learned the first loss as its noise, the
+  // fallback's step was 6.7 %, and the second loss waited 57 s for the generator-speed fault to end)
+  const Shipped& k = shipped();
+  auto first_loss = efficiency(300.0);
+  first_loss.end = 450.0;
+  auto gain = plant::FaultSpec::make("WT01", "generator_speed", "gain", 1000.0);
+  gain.gain = 1.105;
+  InputContext suspect;
+  suspect.generator_speed_suspect = true;
+  double step = 0.0, rms = 0.0;
+  const Hook report = [&](FrameSample& s, DriveTrainDiagnoser& d) {
+    if (std::fabs(s.t - 1010.0) < 0.5 * kDt) d.set_context(suspect, s.t);
+    if (std::fabs(s.t - 1050.0) < 0.5 * kDt) step = d.efficiency_step(), rms = d.rotor_speed_drop_rms();
+  };
+  const auto r = run_turbine(k.turbine, k.config, 13.7, 0.116, 1180.0, {first_loss, gain, efficiency(1060.0)},
+                             152, 0.0, report);
+  // THEN the first loss is raised and cleared, the rotor's sensor's own noise is learned small, the
+  // fallback's step stays efficiency_step, and the second loss is raised on the rotor's sensor within 60 s
+  ASSERT_NE(first(r, "efficiency_loss", 300.0), nullptr) << describe(r);
+  ASSERT_NE(first(r, "efficiency_loss", 300.0, false), nullptr) << describe(r);
+  EXPECT_GT(rms, 0.0);
+  EXPECT_LT(rms, 0.01);
+  EXPECT_EQ(step, k.config.efficiency.step);
+  const FaultEvent* second = first(r, "efficiency_loss", 1000.0);
+  ASSERT_NE(second, nullptr) << describe(r);
+  EXPECT_LE(second->t, 1120.0) << describe(r);
+  std::printf(
+      "[ measured ] rotor's sensor less the generator's: drop rms %.2f %%; the second loss raised %.1f s "
+      "after its onset\n",
+      100 * rms, second->t - 1060.0);
 }
 
 TEST(DriveTrainDiagnoser, AGeneratorSpeedStepReportedSecondsLaterIsNoEfficiencyLoss) {
