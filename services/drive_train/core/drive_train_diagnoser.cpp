@@ -7,6 +7,15 @@
 
 namespace windfdi::drive_train {
 
+namespace {
+/// The blades' mean pitch (deg): what each energy-balance block keeps of the pitch.
+double mean_pitch(const FrameSample& s) {
+  double pitch = 0.0;
+  for (std::size_t i = 0; i < kBlades; ++i) pitch += s.pitch[i] / kBlades;
+  return pitch;
+}
+}  // namespace
+
 DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams& turbine) {
   // clang-format off
   s.require_known_keys({"turbine_file", "estimate_rate", "wind_window", "min_offset", "cusum_threshold",
@@ -192,8 +201,6 @@ bool DriveTrainDiagnoser::update(const FrameSample& s, bool gap, std::vector<Fau
   bool broken = false;
   uint64_t lost = 0;
   if (centre_sample(balance_, fed, gap || !balanced, centre, aero_power, broken, lost)) {
-    double pitch = 0.0;
-    for (std::size_t i = 0; i < kBlades; ++i) pitch += centre.pitch[i] / kBlades;
     // The rotor's sensor is averaged over the wind window (centred): its noise, 50 times the generator's
     // divided by N, read at the blocks' 0.5 s ends put 4 % rms into the drop at 6 m/s. No block spans a
     // change of sensor: the samples whose window holds both are left out.
@@ -203,8 +210,8 @@ bool DriveTrainDiagnoser::update(const FrameSample& s, bool gap, std::vector<Fau
     const bool forget = context_.generator_speed_suspect && !on_rotor;
     const bool usable = !forget && !speeds_disagree_ && !switching && !broken && !context_.turbine_stopped &&
                         std::isfinite(centre.rotor_speed);
-    balance_.monitor.update(centre.gen_torque, centre.generator_speed, aero_power, pitch, usable, forget,
-                            static_cast<std::size_t>(lost));
+    balance_.monitor.update(centre.gen_torque, centre.generator_speed, aero_power, mean_pitch(centre), usable,
+                            forget, static_cast<std::size_t>(lost));
     report_efficiency(centre.t, events);
   }
   update_rotor_shadow(fed, rotor_reading, gap, torques && !placed && !speeds_disagree_ && !on_rotor);
@@ -255,12 +262,10 @@ void DriveTrainDiagnoser::update_rotor_shadow(FrameSample fed, double rotor, boo
   bool broken = false;
   uint64_t lost = 0;
   if (!centre_sample(rotor_shadow_, fed, gap || !ok, centre, aero_power, broken, lost)) return;
-  double pitch = 0.0;
-  for (std::size_t i = 0; i < kBlades; ++i) pitch += centre.pitch[i] / kBlades;
   const bool usable = !broken && !context_.turbine_stopped && std::isfinite(centre.rotor_speed);
-  const EfficiencyState& st =
-      rotor_shadow_.monitor.update(centre.gen_torque, centre.rotor_speed * c_.efficiency.gear_ratio,
-                                   aero_power, pitch, usable, !ok, static_cast<std::size_t>(lost));
+  const EfficiencyState& st = rotor_shadow_.monitor.update(
+      centre.gen_torque, centre.rotor_speed * c_.efficiency.gear_ratio, aero_power, mean_pitch(centre),
+      usable, !ok, static_cast<std::size_t>(lost));
   if (st.tests == shadow_tests_seen_) return;
   shadow_tests_seen_ = st.tests;
   // What the rotor's sensor adds: its drop less the generator's balance's, which a real loss moves alike
