@@ -80,6 +80,7 @@ WINDS = [16.0, 15.0, 17.0, 14.0, 18.0]
 
 # Log lines (spdlog: "DATE TIME EXECUTABLE LEVEL: MESSAGE") of a published FaultReport and an applied configuration.
 PUBLISHED = re.compile(r" (?:info|warning): (\S+) (\S+) (\S+) (RAISED|cleared) \((\w+), statistic")
+LOST_SEEN = re.compile(r" warning: service (\S+) for turbine (\S+) lost its liveliness")
 APPLIED = re.compile(r" info: (\S+): applying configuration r(\d+) from (\S+): mode (\d+)")
 
 
@@ -287,10 +288,28 @@ def plant_applied_from(farm, arbiter_id, since):
                 m = APPLIED.search(line)
                 if not m or m[3] != arbiter_id:
                     continue
-                at = time.mktime(time.strptime(line[:19], "%Y-%m-%d %H:%M:%S")) + float(line[19:23])
+                at = log_time(line)
                 if at > since:
                     return at
     return None
+
+
+def log_time(line):
+    """Wall time of a spdlog line ("DATE TIME.mmm ...")."""
+    return time.mktime(time.strptime(line[:19], "%Y-%m-%d %H:%M:%S")) + float(line[19:23])
+
+
+def losses_seen_by_arbiters(farm, since):
+    """(arbiter, service, turbine) of every service loss the arbiters logged after `since`."""
+    seen = set()
+    for name in ("arbiter", "standby"):
+        for path in farm.log_paths(name):
+            with open(path, errors="replace") as f:
+                for line in f:
+                    m = LOST_SEEN.search(line)
+                    if m and log_time(line) > since:
+                        seen.add((name, m[1], m[2]))
+    return sorted(" ".join(k) for k in seen)
 
 
 def run_case(farm, name, case, settle):
@@ -327,7 +346,7 @@ def run_case(farm, name, case, settle):
     elif lost_at:
         back_at = wait_for(lambda: health_after(farm, health_name, lost_at, False), BACK_TIMEOUT)
     time.sleep(settle)
-    return dict({"process": name, "case": case,
+    return dict({"process": name, "case": case, "losses_seen": losses_seen_by_arbiters(farm, t0),
                  "lost_after_s": round(lost_at - t0, 2) if lost_at else None,
                  "back_after_s": round(back_at - t1, 2) if back_at else None}, **judged_since(farm, t0, before))
 
@@ -341,7 +360,11 @@ def judged_since(farm, t0, before):
         (t0,)) if (t, c, f) not in before})
     stops = farm.query("SELECT DISTINCT turbine_id FROM configurations WHERE mode = 'safe_stop' AND received_at > ?",
                        (t0,))
+    # The arbiters' answer to a lost diagnostic service (the reason names service_lost), published from `t0` on.
+    fallbacks = farm.query("SELECT DISTINCT turbine_id || ' ' || arbiter_id FROM configurations WHERE received_at > ? "
+                           "AND reasons LIKE '%service_lost%'", (t0,))
     return {
+        "fallbacks": sorted(f[0] for f in fallbacks),
         "faults_before": sorted(" ".join(k) for k in before),
         "faults_kept": before <= after,
         "faults_after": sorted(" ".join(k) for k in after),
@@ -367,6 +390,20 @@ def check_row(row):
     if row["safe_stops"]:
         problems.append("safe stop of " + ", ".join(row["safe_stops"]))
     return problems
+
+
+def open_defects(row):
+    """What a case shows of the defect docs/fastdds.md "A stopped process" leaves open, reported and not failed
+    on: no diagnostic service is lost when an arbiter or the farm monitor is killed or frozen, so a service an
+    arbiter saw lost, or a lost-service fallback, is the case's own doing (a thawed arbiter whose shared-memory
+    port its peers had torn down saw services lost for 8-10 s, in some runs)."""
+    notes = []
+    if row["process"] in ("arbiter", "standby", "farm"):
+        if row["losses_seen"]:
+            notes.append("services seen lost that were not: " + ", ".join(row["losses_seen"]))
+        if row["fallbacks"]:
+            notes.append("lost-service fallback with no service lost: " + ", ".join(row["fallbacks"]))
+    return notes
 
 
 def rss_mb(pid):
@@ -473,6 +510,8 @@ def run_cases(a, cases, run_one, check, describe, header, line):
 
 
 def processes(a):
+    global FREEZE_SECONDS
+    FREEZE_SECONDS = a.freeze
     cases = [c for c in a.cases.split(",") if c]
     # NAME:CASE+CASE gives a process cases of its own (CI freezes the primary arbiter only).
     plan = []
@@ -485,7 +524,8 @@ def processes(a):
         return 2
     return run_cases(a, plan, lambda farm, c: run_case(farm, c[0], c[1], a.settle), check_row,
                      lambda r, p: f"  {r['process']:12s} {r['case']:6s} lost {fmt(r['lost_after_s'])} s, back "
-                                 f"{fmt(r['back_after_s'])} s" + ("" if not p else ": " + "; ".join(p)),
+                                 f"{fmt(r['back_after_s'])} s" + ("" if not p else ": " + "; ".join(p))
+                                 + "".join(f" (open defect, not judged: {n})" for n in open_defects(r)),
                      "| process | case | shown lost after s | shown back after s | faults kept | raised by it | "
                      "safe stops |\n|---|---|---|---|---|---|---|",
                      lambda r: f"| {r['process']} | {r['case']} | {fmt(r['lost_after_s'])} | "
@@ -765,6 +805,7 @@ def main():
     p.add_argument("--only", default=",".join(PROCESSES),
                    help="processes to kill or freeze, in this order; NAME:kill+freeze gives one its own cases")
     p.add_argument("--cases", default="kill,freeze", help="kill, freeze or both")
+    p.add_argument("--freeze", type=float, default=FREEZE_SECONDS, help="wall seconds a frozen process stays stopped")
     h = sub.add_parser("hostile", help="a hostile peer on the unsecured domain")
     h.add_argument("--ids", type=int, default=10000, help="unknown turbine ids it sends frames for")
     h.add_argument("--huge", type=int, default=1 << 20, help="bytes of the strings in its IDL string fields")
