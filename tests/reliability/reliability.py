@@ -163,6 +163,12 @@ class Farm:
     def log_paths(self, name):
         return [os.path.join(self.logs, f"{name}.{k}.log") for k in range(self.incarnations.get(name, 0))]
 
+    def log_lines(self, name):
+        """Every line the process `name` logged, over its incarnations in order."""
+        for path in self.log_paths(name):
+            with open(path, errors="replace") as f:
+                yield from f
+
     def start(self, name):
         k = self.incarnations.get(name, 0)
         self.incarnations[name] = k + 1
@@ -254,12 +260,8 @@ def published_by_services(farm):
     """Every FaultReport the services logged as published: (source, turbine, component, fault, state)."""
     events = []
     for service in SERVICES:
-        for path in farm.log_paths(service):
-            with open(path, errors="replace") as f:
-                for line in f:
-                    m = PUBLISHED.search(line)
-                    if m:
-                        events.append((service, m[1], m[2], m[3], "raised" if m[4] == "RAISED" else "cleared"))
+        for m in filter(None, map(PUBLISHED.search, farm.log_lines(service))):
+            events.append((service, m[1], m[2], m[3], "raised" if m[4] == "RAISED" else "cleared"))
     return events
 
 
@@ -282,15 +284,10 @@ def configurations_out_of_order(farm):
 
 def plant_applied_from(farm, arbiter_id, since):
     """Wall time of the first configuration the plant applied from `arbiter_id` after `since` (its log)."""
-    for path in farm.log_paths("plant"):
-        with open(path, errors="replace") as f:
-            for line in f:
-                m = APPLIED.search(line)
-                if not m or m[3] != arbiter_id:
-                    continue
-                at = log_time(line)
-                if at > since:
-                    return at
+    for line in farm.log_lines("plant"):
+        m = APPLIED.search(line)
+        if m and m[3] == arbiter_id and log_time(line) > since:
+            return log_time(line)
     return None
 
 
@@ -303,16 +300,14 @@ def losses_seen_by_arbiters(farm, since):
     """(arbiter, service, turbine) of every service loss the arbiters logged after `since`."""
     seen = set()
     for name in ("arbiter", "standby"):
-        for path in farm.log_paths(name):
-            with open(path, errors="replace") as f:
-                for line in f:
-                    m = LOST_SEEN.search(line)
-                    if m and log_time(line) > since:
-                        seen.add((name, m[1], m[2]))
+        for line in farm.log_lines(name):
+            m = LOST_SEEN.search(line)
+            if m and log_time(line) > since:
+                seen.add((name, m[1], m[2]))
     return sorted(" ".join(k) for k in seen)
 
 
-def run_case(farm, name, case, settle):
+def run_case(farm, name, case, settle, freeze):
     """One process killed and restarted, or frozen and thawed; returns the row of the report."""
     health_name = {"standby": "arbiter"}.get(name, name)
     before = active_faults(farm)
@@ -325,15 +320,15 @@ def run_case(farm, name, case, settle):
     if name == "arbiter":
         # The standby speaks for "arbiter" on wt/health: the loss shows as the plant following the standby.
         lost_at = wait_for(lambda: plant_applied_from(farm, "standby", t0), LOST_TIMEOUT if case == "kill"
-                           else FREEZE_SECONDS)
+                           else freeze)
     elif name not in ("farm", "standby"):
         lost_at = wait_for(lambda: health_after(farm, health_name, t0, True), LOST_TIMEOUT if case == "kill"
-                           else FREEZE_SECONDS)
+                           else freeze)
     if case == "kill":
         time.sleep(max(0.0, 2.0 - (time.time() - t0)))
         farm.start(name)
     else:
-        time.sleep(max(0.0, FREEZE_SECONDS - (time.time() - t0)))
+        time.sleep(max(0.0, freeze - (time.time() - t0)))
         farm.signal(name, signal.SIGCONT)
     t1 = time.time()
     back_at = None
@@ -346,7 +341,11 @@ def run_case(farm, name, case, settle):
     elif lost_at:
         back_at = wait_for(lambda: health_after(farm, health_name, lost_at, False), BACK_TIMEOUT)
     time.sleep(settle)
+    # The arbiters' answer to a lost diagnostic service (the reason names service_lost), published from `t0` on.
+    fallbacks = farm.query("SELECT DISTINCT turbine_id || ' ' || arbiter_id FROM configurations WHERE received_at > ? "
+                           "AND reasons LIKE '%service_lost%'", (t0,))
     return dict({"process": name, "case": case, "losses_seen": losses_seen_by_arbiters(farm, t0),
+                 "fallbacks": sorted(f[0] for f in fallbacks),
                  "lost_after_s": round(lost_at - t0, 2) if lost_at else None,
                  "back_after_s": round(back_at - t1, 2) if back_at else None}, **judged_since(farm, t0, before))
 
@@ -360,11 +359,7 @@ def judged_since(farm, t0, before):
         (t0,)) if (t, c, f) not in before})
     stops = farm.query("SELECT DISTINCT turbine_id FROM configurations WHERE mode = 'safe_stop' AND received_at > ?",
                        (t0,))
-    # The arbiters' answer to a lost diagnostic service (the reason names service_lost), published from `t0` on.
-    fallbacks = farm.query("SELECT DISTINCT turbine_id || ' ' || arbiter_id FROM configurations WHERE received_at > ? "
-                           "AND reasons LIKE '%service_lost%'", (t0,))
     return {
-        "fallbacks": sorted(f[0] for f in fallbacks),
         "faults_before": sorted(" ".join(k) for k in before),
         "faults_kept": before <= after,
         "faults_after": sorted(" ".join(k) for k in after),
@@ -510,8 +505,6 @@ def run_cases(a, cases, run_one, check, describe, header, line):
 
 
 def processes(a):
-    global FREEZE_SECONDS
-    FREEZE_SECONDS = a.freeze
     cases = [c for c in a.cases.split(",") if c]
     # NAME:CASE+CASE gives a process cases of its own (CI freezes the primary arbiter only).
     plan = []
@@ -522,7 +515,7 @@ def processes(a):
     if bad:
         print(f"reliability: bad --only/--cases: {bad}; processes are " + ", ".join(PROCESSES), file=sys.stderr)
         return 2
-    return run_cases(a, plan, lambda farm, c: run_case(farm, c[0], c[1], a.settle), check_row,
+    return run_cases(a, plan, lambda farm, c: run_case(farm, c[0], c[1], a.settle, a.freeze), check_row,
                      lambda r, p: f"  {r['process']:12s} {r['case']:6s} lost {fmt(r['lost_after_s'])} s, back "
                                  f"{fmt(r['back_after_s'])} s" + ("" if not p else ": " + "; ".join(p))
                                  + "".join(f" (open defect, not judged: {n})" for n in open_defects(r)),
@@ -691,11 +684,7 @@ LOST = re.compile(r": (\d+) samples lost before sequence")
 
 def samples_lost(farm, service):
     """Samples the service's logs say were lost (sequence gaps), over every incarnation."""
-    total = 0
-    for path in farm.log_paths(service):
-        with open(path, errors="replace") as f:
-            total += sum(int(m[1]) for m in map(LOST.search, f) if m)
-    return total
+    return sum(int(m[1]) for m in map(LOST.search, farm.log_lines(service)) if m)
 
 
 def store_bytes(farm):
