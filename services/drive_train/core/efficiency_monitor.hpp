@@ -45,6 +45,11 @@ struct EfficiencyConfig {
   /// minutes, and fast accretions (7.5 t in 5 min) were raised as efficiency losses 75-330 s after the ice
   /// began.
   bool step_shape = true;
+  /// On a rotor weighed iced (above iced_inertia_ratio) a drop is raised still when a step fits the blocks
+  /// this much better than any bend (the step's misfit below this share of the bend's; 0: never). An
+  /// accretion's Cp loss bends the blocks' efficiencies over minutes; a gear failing on a rotor that kept
+  /// 2 t of ice after a shedding stepped them 5 % in 40 s and held, and was withheld for its inertia alone.
+  double iced_step_share = 0.6;
   /// The blocks' efficiencies weigh the rotor at least this heavy: ice only adds inertia, and a fit below
   /// the clean rotor is the anemometer's error (0: the fit as it is).
   double inertia_ratio_floor = 1.0;
@@ -100,9 +105,9 @@ class EfficiencyMonitor {
   double fitted_inertia_ratio(std::size_t from, std::size_t n) const;
   /// Mean of the blocks' efficiencies with the rotor inertia scaled by `inertia_ratio`.
   double ratio(std::size_t from, std::size_t n, double inertia_ratio) const;
-  /// Whether a step fits the blocks' efficiencies better than a bend (step_shape). The blocks are all those
-  /// kept, back to the end of the last loss that cleared.
-  bool step_shaped(double inertia_ratio) const;
+  /// Whether a step fits the blocks' efficiencies better than a bend (step_shape): its misfit below `share`
+  /// of the bend's. The blocks are all those kept, back to the end of the last loss that cleared.
+  bool step_shaped(double inertia_ratio, double share) const;
 
   EfficiencyConfig c_;
   double dt_;

@@ -326,6 +326,7 @@ TEST(DriveTrainDiagnoser, ShippedConfigurationIsTheDefaults) {
   EXPECT_EQ(c.efficiency.iced_inertia_ratio, d.efficiency.iced_inertia_ratio);
   EXPECT_EQ(c.efficiency.confirm_time, d.efficiency.confirm_time);
   EXPECT_EQ(c.efficiency.step_shape, d.efficiency.step_shape);
+  EXPECT_EQ(c.efficiency.iced_step_share, d.efficiency.iced_step_share);
   EXPECT_EQ(c.rotor_speed_fallback, d.rotor_speed_fallback);
   EXPECT_TRUE(c.rotor_speed_fallback);
   EXPECT_EQ(c.converter.time_constant, shipped().turbine.converter_time_constant);
@@ -416,6 +417,42 @@ TEST(DriveTrainDiagnoser, AFastAccretionIsNoEfficiencyLoss) {
     // step is still raised: EfficiencyStepIsRaisedWithinAMinuteAndEstimated and the others run with it)
     EXPECT_TRUE(raised[0]) << wind << ": the accretion no longer reads as a loss; this test no longer tests";
     EXPECT_FALSE(raised[1]) << wind;
+  }
+}
+
+TEST(DriveTrainDiagnoser, AStepOnARotorThatKeepsItsIceIsRaisedAndMoreIceIsNot) {
+  // GIVEN the benchmark rotor carrying 3000 kg of ice throughout (+8.7 % inertia: every fit above the ice
+  // guard) whose drive train's efficiency steps from 0.97 to 0.92 at 300 s (judged set 260: a loss 290 s
+  // after a shedding had left 2 t of ice on the rotor was withheld for the inertia alone)
+  for (const double wind : {8.0, 12.0}) {
+    bool raised[2] = {false, false};
+    for (const bool clean_step : {false, true}) {
+      DiagnoserConfig c = shipped().config;
+      if (!clean_step) c.efficiency.iced_step_share = 0.0;
+      const auto r = run_turbine(shipped().turbine, c, wind, 0.12, 420.0, {efficiency(300.0)},
+                                 90 + static_cast<uint64_t>(wind), 3000.0);
+      const FaultEvent* e = first(r, "efficiency_loss", 0.0);
+      raised[clean_step] = e != nullptr;
+      std::printf("[measured] %.1f m/s, iced_step_share %.2f:\n%s", wind, c.efficiency.iced_step_share,
+                  describe(r).c_str());
+      // THEN with the clean-step rule it is raised within 60 s of its onset and not before
+      if (clean_step) {
+        ASSERT_NE(e, nullptr) << wind << " m/s\n" << describe(r);
+        EXPECT_GE(e->t, 300.0) << wind;
+        EXPECT_LE(e->t, 360.0) << wind;
+      }
+    }
+    // AND without it the ice guard withholds it (else this test no longer tests the rule)
+    EXPECT_FALSE(raised[0]) << wind;
+    EXPECT_TRUE(raised[1]) << wind;
+  }
+  // GIVEN the same iced rotor taking 7500 kg more over 300 s from 300 s (its Cp falling 15 % in 5 minutes)
+  for (const double wind : {8.0, 13.8, 16.1}) {
+    auto ice = plant::FaultSpec::make("WT01", "rotor", "ice_accretion", 300.0).with_value(7500.0);
+    ice.ramp_in = 300.0;
+    const auto r = run_plant(wind, 900.0, {ice}, 5030 + static_cast<uint64_t>(wind), 3000.0);
+    // THEN no efficiency_loss is raised: an accretion bends the blocks' efficiencies, it does not step them
+    EXPECT_EQ(first(r, "efficiency_loss", 0.0), nullptr) << wind << " m/s\n" << describe(r);
   }
 }
 
