@@ -187,10 +187,11 @@ void EfficiencyMonitor::evaluate() {
     // A drop must hold for confirm_time: a generator-speed sensor's step puts its whole size into one block's
     // speed change (suite seeds 143-148: 10 efficiency reports 1-2 s after a generator-speed bias or gain,
     // before sensor_bias's report discarded the blocks; one sent the turbine to degraded mode for 4 s).
+    // The shape fits (O(blocks^2)) only for a drop past the step, as before the iced rule.
     const bool iced = state_.inertia_ratio > c_.iced_inertia_ratio;
-    const bool shaped = iced ? c_.iced_step_share > 0.0 && step_shaped(weighed, c_.iced_step_share)
-                             : !c_.step_shape || step_shaped(weighed, 1.0);
-    const bool dropped = state_.drop > step_ && shaped;
+    const bool dropped =
+        state_.drop > step_ && (iced ? c_.iced_step_share > 0.0 && step_shaped(weighed, c_.iced_step_share)
+                                     : !c_.step_shape || step_shaped(weighed, 1.0));
     if (!dropped) {
       drop_since_ = -1.0;
     } else if (drop_since_ < 0.0) {

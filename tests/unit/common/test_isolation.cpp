@@ -131,9 +131,9 @@ TEST(Isolation, AnEfficiencyLossRaisedAfterItsRootsTrailIsTheDriveTrainsOwn) {
       // 241, scenario 04: a real loss on the iced medium-speed rotor 163 s after the ice report.
       {report("ice_detect", "rotor", "ice_accretion", 1000), 1030, 1163},
   };
+  const auto loss = [](double t) { return report("drive_train", "drive_train", "efficiency_loss", t); };
   for (const Case& c : cases) {
     // THEN the first is the root's echo, and the second a root, as is the root
-    const auto loss = [](double t) { return report("drive_train", "drive_train", "efficiency_loss", t); };
     EXPECT_TRUE(isolate({c.root, loss(c.echo_t)})[1].secondary) << c.root.component;
     const auto v = isolate({c.root, loss(c.own_t)});
     EXPECT_FALSE(v[0].secondary) << c.root.component;
