@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -48,6 +49,13 @@ struct BiasConfig {
   /// above this (its noise grows as 1 / T_g).
   double witness_torque_min =
       3000.0;  ///< N m; below it (not producing: a stop, idling) the speed biases are held
+  /// s, time constant over which the gain-or-offset test learns the converter's own torque offset: the
+  /// measured torque's mean departure from the converter model driven by the torque reference. A converter
+  /// offset (the benchmark's fault) moves the delivered and measured torque but not the reference, so the
+  /// model alone puts the witness P / (eta_g T) a share off/T off, which reads as a speed sensor's gain (a
+  /// 100 N m offset on a 1.5 MW rotor at 9 m/s: 2 %). Held while a speed channel's record runs. 0: the model
+  /// alone, as before stop 69.
+  double converter_offset_time = 10.0;
   /// Observer mode: after the pitch reference has moved faster than the blade's rate limit (a safe stop's
   /// jump to feather, a reconfiguration's step, a derated blade) the actuator runs at its rate limit, where
   /// the linear actuator model does not hold: the pitch bias is held until the bias-corrected pitch is back
@@ -201,6 +209,12 @@ class BiasEstimator {
   const char* fault_class(std::size_t k, double waited);
   /// Electrical power below which the generator speed steers no pitch (share of rated; region 2).
   static constexpr double kBelowRatedPowerShare = 0.9;
+  /// A channel not raised whose filtered bias is below this share of its threshold is quiet: its
+  /// gain-or-offset record restarts there, so that a fault's record begins at its onset.
+  static constexpr double kQuietShare = 0.25;
+  bool quiet(std::size_t k) const {
+    return !raised_[k] && std::fabs(filtered_[k]) < kQuietShare * cfg_.threshold[k];
+  }
   // A pitch reference moving faster than this share of the blade's rate limit outruns its actuator.
   static constexpr double kOutrunRatio = 1.2;
   std::string detail(std::size_t k, bool raised) const;  ///< the report's detail for channel k
@@ -211,6 +225,8 @@ class BiasEstimator {
   double torque_avg_;         // share of a torque step the converter delivers on average over one sample
   double converter_a_ = 1.0;  // share of a torque step the converter delivers within one sample
   double converter_torque_ = 0.0, last_torque_ref_ = 0.0;  // N m, the converter model's torque, its input
+  double converter_offset_ = 0.0;    // N m, the measured torque's slow mean departure from that model
+  double converter_offset_a_ = 0.0;  // share of that departure learned per sample (converter_offset_time)
   bool converter_init_ = false;
   double aero_damping_;  // N m s/rad folded into the drive train's A by the design (added back to the input)
   std::array<double, kChannels> inv_bias_bound_{};  // 1 / the design's bias-error bound (0: none)

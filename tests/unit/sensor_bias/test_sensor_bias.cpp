@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <random>
 
 #include "bias_estimator.hpp"
@@ -1125,6 +1126,36 @@ TEST(ObserverMode, ARaisedPitchBiasStaysRaisedThroughEveryBladeDerated) {
   }
 }
 
+/// The shipped configuration with `key` set to `value`, and gains designed for `turbine_file` at start as the
+/// service does: an estimator for that turbine.
+BiasEstimator estimator_for(const std::string& turbine_file, const TurbineParams& p, const char* key,
+                            double value) {
+  const YamlSection y = YamlSection::load_file(kDeploy + "/config/sensor_bias.yaml");
+  YAML::Node n = YAML::Clone(y.node());
+  n[key] = value;
+  const BiasConfig c = load_bias_config(YamlSection(n, y.file()), kDeploy + "/sensor_bias", p);
+  std::string note;
+  const GainFile drive_train = gain_for_turbine(load_gain_file(c.drive_train_gain_file), "drive_train_gains",
+                                                c.drive_train_design, turbine_file, p, true, note);
+  const GainFile pitch = gain_for_turbine(load_gain_file(c.pitch_gain_file), "pitch_gains", c.pitch_design,
+                                          turbine_file, p, true, note);
+  return BiasEstimator(c, drive_train, pitch, p);
+}
+
+/// The first fault `est` raises over `seconds` of `sim` (no aerodynamic torque, as on a real turbine); none:
+/// std::nullopt.
+std::optional<FaultEvent> first_raised(plant::TurbineSim& sim, BiasEstimator& est, double seconds) {
+  std::vector<FaultEvent> events;
+  for (int k = 0; k < static_cast<int>(seconds * 100.0); ++k) {
+    FrameSample s = sim.step();
+    s.aero_torque = s.aero_power = kNaN;
+    est.update(s, false, events);
+  }
+  for (const auto& e : events)
+    if (e.raised) return e;
+  return std::nullopt;
+}
+
 TEST(ObserverMode, AGeneratorSpeedFaultIsNamedRightThoughItsRecordBeganBeforeTheOnset) {
   // GIVEN the example 2 MW turbine at 6.3 m/s (TI 0.098), its gains designed from its file at start as the
   // service does, and generator-speed gains from 300 s, on the two plant seeds of the multi-fault suite's
@@ -1133,20 +1164,11 @@ TEST(ObserverMode, AGeneratorSpeedFaultIsNamedRightThoughItsRecordBeganBeforeThe
   // rad/s) about a second before the onset, so the record held healthy samples; and offsets of 3-4 rad/s
   const std::string turbine_file = kDeploy + "/turbine/example_2MW.yaml";
   const TurbineParams p = load_turbine_params_file(turbine_file);
-  const YamlSection y = YamlSection::load_file(kDeploy + "/config/sensor_bias.yaml");
   struct Counted {
     int right = 0, runs = 0;
   };
   auto run = [&](double misfit_max) -> Counted {
-    YAML::Node n = YAML::Clone(y.node());
-    n["type_misfit_max"] = misfit_max;
-    const BiasConfig c = load_bias_config(YamlSection(n, y.file()), kDeploy + "/sensor_bias", p);
-    std::string note;
-    const GainFile drive_train =
-        gain_for_turbine(load_gain_file(c.drive_train_gain_file), "drive_train_gains", c.drive_train_design,
-                         turbine_file, p, true, note);
-    const GainFile pitch = gain_for_turbine(load_gain_file(c.pitch_gain_file), "pitch_gains", c.pitch_design,
-                                            turbine_file, p, true, note);
+    const BiasEstimator fresh = estimator_for(turbine_file, p, "type_misfit_max", misfit_max);
     Counted counted;
     for (double size : {0.926, 0.905, 0.95, 1.07, 3.2, -4.0})
       for (uint64_t seed : {173008u, 173006u}) {
@@ -1162,22 +1184,14 @@ TEST(ObserverMode, AGeneratorSpeedFaultIsNamedRightThoughItsRecordBeganBeforeThe
                       : bias("generator_speed", size, 300.0);
         if (gain) f.gain = size;
         plant::TurbineSim sim(p, t, {f}, seed, 100.0);
-        BiasEstimator est(c, drive_train, pitch, p);
-        std::vector<FaultEvent> events;
-        for (int k = 0; k < 360 * 100; ++k) {
-          FrameSample s = sim.step();
-          s.aero_torque = s.aero_power = kNaN;
-          est.update(s, false, events);
-        }
-        const FaultEvent* first = nullptr;
-        for (const auto& e : events)
-          if (e.raised && !first) first = &e;
+        BiasEstimator est = fresh;
+        const std::optional<FaultEvent> first = first_raised(sim, est, 360.0);
         ++counted.runs;
         if (misfit_max <= 0.0) {
           if (first && first->fault == expected) ++counted.right;
           continue;
         }
-        EXPECT_NE(first, nullptr) << size << " " << seed << ": nothing raised";
+        EXPECT_TRUE(first) << size << " " << seed << ": nothing raised";
         if (!first) continue;
         std::printf("[measured] 2 MW generator-speed %s %g, seed %llu: %s at %.2f s: %s\n",
                     gain ? "gain" : "offset", size, static_cast<unsigned long long>(seed),
@@ -1200,4 +1214,64 @@ TEST(ObserverMode, AGeneratorSpeedFaultIsNamedRightThoughItsRecordBeganBeforeThe
               restarted.right, restarted.runs, kept.right, kept.runs);
   // AND keeping the record (type_misfit_max 0) names some of them wrong: the cases exercise the restart
   EXPECT_LT(kept.right, kept.runs);
+}
+
+TEST(ObserverMode, AConverterOffsetDoesNotChangeTheClassOfAGeneratorSpeedFault) {
+  // GIVEN the example 1.5 MW turbine below rated (6-10 m/s, turbulence 0.06-0.14), its gains designed from
+  // its file at start, and 40 seeded generator-speed faults from 200 s (gains and offsets of 3-7 %), each run
+  // without and with the converter's torque 100 N m off from 100 s (the benchmark's converter fault: the
+  // delivered and measured torque move, the reference does not). The converter model alone puts the power
+  // witness 2-3 % off there, which named the suite's offsets of 7.31 and 4.18 rad/s (set 264, scenarios 01
+  // and 07) sensor_gain
+  const std::string turbine_file = kDeploy + "/turbine/example_1.5MW.yaml";
+  const TurbineParams p = load_turbine_params_file(turbine_file);
+  auto right_first = [&](double converter_offset, double converter_offset_time) {
+    const BiasEstimator fresh =
+        estimator_for(turbine_file, p, "converter_offset_time", converter_offset_time);
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    int right = 0;
+    for (int k = 0; k < 40; ++k) {
+      plant::TurbineScenario t;
+      t.id = "WT01";
+      t.wind.mean = 6.0 + 4.0 * u(rng);
+      t.wind.turbulence_intensity = 0.06 + 0.08 * u(rng);
+      t.wind.shear_exponent = 0.15;
+      t.wind.shear_variation = 0.03;
+      const bool gain = u(rng) < 0.5;
+      const double share = (u(rng) < 0.5 ? -1.0 : 1.0) * (0.03 + 0.04 * u(rng));
+      auto speed = gain ? plant::FaultSpec::make("WT01", "generator_speed", "gain", 200.0)
+                        : bias("generator_speed", share * 0.8 * p.rated_generator_speed, 200.0);
+      if (gain) speed.gain = 1.0 + share;
+      std::vector<plant::FaultSpec> faults{speed};
+      if (converter_offset != 0.0)
+        faults.push_back(
+            plant::FaultSpec::make("WT01", "converter", "torque_offset", 100.0).with_value(converter_offset));
+      plant::TurbineSim sim(p, t, faults, 1000 + static_cast<uint64_t>(k), 100.0);
+      BiasEstimator est = fresh;
+      const std::optional<FaultEvent> first = first_raised(sim, est, 250.0);
+      EXPECT_TRUE(first) << "case " << k << ": nothing raised";
+      if (!first) continue;
+      EXPECT_EQ(first->component, "generator_speed_sensor") << first->detail;
+      EXPECT_GE(first->t, 200.0) << first->detail;
+      EXPECT_LE(first->t, 200.0 + 22.0) << first->detail;  // the below-rated wait
+      right += first->fault == (gain ? "sensor_gain" : "sensor_bias");
+    }
+    return right;
+  };
+  const double learn = config(Mode::kObserver).converter_offset_time;
+  const int clean = right_first(0.0, 0.0), clean_learning = right_first(0.0, learn);
+  const int learned = right_first(100.0, learn), model_alone = right_first(100.0, 0.0);
+  std::printf(
+      "[measured] 1.5 MW generator-speed faults named right first, of 40: %d clean, %d clean learning "
+      "the converter's offset; beside a 100 N m converter offset %d learning it, %d with the model alone\n",
+      clean, clean_learning, learned, model_alone);
+  // THEN beside the converter's offset they are named as well as without it (measured: 39 and 39 of 40)
+  EXPECT_GE(clean, 38);
+  EXPECT_GE(learned, clean - 1);
+  // AND learning costs the clean rotor nothing: the offset is held while a speed record runs (learned over
+  // 10 s without the hold: 30 of 40)
+  EXPECT_GE(clean_learning, clean - 1);
+  // AND the converter model alone names several wrong (measured: 27 of 40): the cases exercise the offset
+  EXPECT_LE(model_alone, clean - 5);
 }
