@@ -45,10 +45,13 @@ struct BiasConfig {
       0.5;  ///< s: a hole of lost samples at most this long does not re-settle (the observers step over it)
   double reconfiguration_hold =
       10.0;  ///< s after the blades' rate limits or the stop change: pitch judgement held
-  /// Observer mode: the generator-speed witness P / (eta_g T_g) is used only while the measured torque is
-  /// above this (its noise grows as 1 / T_g).
+  /// Observer mode: the generator-speed witness P / (eta_g T_g) is used only while the torque is above this
+  /// (its noise grows as 1 / T_g).
   double witness_torque_min =
       3000.0;  ///< N m; below it (not producing: a stop, idling) the speed biases are held
+  /// The torque held against witness_torque_min is the converter model's (noise-free); false: the measured
+  /// sample's, which keeps only the samples whose noise is positive near the gate and reads the witness low.
+  bool witness_gate_on_model = true;
   /// s, time constant over which the gain-or-offset test learns the converter's own torque offset: the
   /// measured torque's mean departure from the converter model driven by the torque reference. A converter
   /// offset (the benchmark's fault) moves the delivered and measured torque but not the reference, so the
