@@ -160,6 +160,18 @@ double EfficiencyMonitor::ratio(std::size_t from, std::size_t n, double inertia_
   return s / static_cast<double>(n);
 }
 
+double EfficiencyMonitor::ratio_spread(std::size_t from, std::size_t n, double inertia_ratio) const {
+  if (n < 2) return 0.0;
+  const double mean = ratio(from, n, inertia_ratio);
+  double s = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Block& b = blocks_[blocks_.size() - 1 - from - i];
+    const double d = b.generator_side / (b.rotor_side - inertia_ratio * b.inertia_torque) - mean;
+    s += d * d;
+  }
+  return std::sqrt(s / static_cast<double>(n - 1));
+}
+
 void EfficiencyMonitor::evaluate() {
   const auto count = [&](double s) { return static_cast<std::size_t>(std::lround(s / c_.block_time)); };
   const std::size_t test = std::max<std::size_t>(1, count(c_.test_time)), gap = count(c_.reference_gap),
@@ -179,6 +191,11 @@ void EfficiencyMonitor::evaluate() {
   state_.efficiency = ratio(0, test, weighed);
   state_.drop = (state_.reference - state_.efficiency) / state_.reference;
   if (!state_.raised) {
+    // The drop's standard error from the reference's own scatter: a mean of the test's blocks against one of
+    // the reference's, as if the blocks were independent (noise_sigmas carries their correlation).
+    state_.standard_error =
+        ratio_spread(test + gap, reference, weighed) *
+        std::sqrt(1.0 / static_cast<double>(test) + 1.0 / static_cast<double>(reference)) / state_.reference;
     // An iced rotor loses Cp too, which the balance cannot tell from a lossy gearbox by the drop alone; its
     // larger inertia it can: while the reference blocks weigh the rotor heavier than iced_inertia_ratio, a
     // drop is raised only when a step fits the blocks far better than any bend (iced_step_share). On the
@@ -189,9 +206,9 @@ void EfficiencyMonitor::evaluate() {
     // before sensor_bias's report discarded the blocks; one sent the turbine to degraded mode for 4 s).
     // The shape fits (O(blocks^2)) only for a drop past the step, as before the iced rule.
     const bool iced = state_.inertia_ratio > c_.iced_inertia_ratio;
-    const bool dropped =
-        state_.drop > step_ && (iced ? c_.iced_step_share > 0.0 && step_shaped(weighed, c_.iced_step_share)
-                                     : !c_.step_shape || step_shaped(weighed, 1.0));
+    const bool dropped = state_.drop > std::max(step_, c_.noise_sigmas * state_.standard_error) &&
+                         (iced ? c_.iced_step_share > 0.0 && step_shaped(weighed, c_.iced_step_share)
+                               : !c_.step_shape || step_shaped(weighed, 1.0));
     if (!dropped) {
       drop_since_ = -1.0;
     } else if (drop_since_ < 0.0) {
