@@ -5,6 +5,8 @@ reports per turbine-hour and by safe stops no injected fault warrants.
 
   multi_fault_suite.py generate --seed S --count N --out DIR      write N scenarios (DIR/scenario_SEED_K.yaml)
   multi_fault_suite.py generate --healthy ...                     healthy hours at 8, 12, 16, 20 m/s instead
+  multi_fault_suite.py generate --edge ...                        healthy hours at the envelope's edges instead
+  multi_fault_suite.py generate --benchmark-sequence ...          the benchmark's ten faults on four turbines
   multi_fault_suite.py run DIR [--mode fast|dds] [--rate R] ...   run every scenario of DIR, print the tables
   multi_fault_suite.py run FILE.yaml ...                          one scenario (benchmark.yaml works too)
   multi_fault_suite.py run DIR --set SERVICE.KEY=VALUE ...         fast mode with configuration keys replaced
@@ -219,6 +221,68 @@ def healthy(seed, index, machine=None):
     return out
 
 
+# The edges of the operating envelope the fault draws stay inside (6-22 m/s, turbulence 0.06-0.16): light and
+# strong wind, each in the turbulence IEC's normal model gives light wind (0.2-0.3 at 5 m/s) and a farm's wakes
+# give strong wind.
+EDGE_BANDS = [(4.5, 6.0), (5.0, 7.0), (21.0, 23.0), (23.0, 25.0)]
+EDGE_TURBULENCE = (0.16, 0.24)
+
+
+def edge(seed, index, machine=None):
+    """An hour of a healthy turbine in each of EDGE_BANDS at EDGE_TURBULENCE (false alarms where the wind is
+    light or strong and gusty; a lull to 2 m/s, a gust past 30 m/s)."""
+    m = machine or Machine()
+    rng = random.Random(seed * 1000 + index)
+    turbines = []
+    for k, (low, high) in enumerate(EDGE_BANDS):
+        wind = {"mean": round(rng.uniform(low, high), 1),
+                "turbulence_intensity": round(rng.uniform(*EDGE_TURBULENCE), 3),
+                "shear_exponent": round(rng.uniform(0.05, 0.35), 3), "shear_variation": 0.03}
+        turbines.append({"id": f"WT{k + 1:02d}", "wind": wind})
+    out = {"duration": 3600, "seed": seed * 1000 + index, "turbines": turbines, "faults": []}
+    if m.file:
+        out["turbine_file"] = m.file
+    return out
+
+
+def benchmark_sequence(seed, index, machine=None):
+    """The benchmark's ten faults (deploy/scenarios/benchmark.yaml) on four turbines, each turbine's sequence
+    shifted by up to 300 s, its blades permuted, at its own wind (15-22 m/s, where all ten show: a pitch gain
+    needs a pitch well off fine pitch, as in fault_catalogue; turbulence 0.06-0.20); the stuck rotor speed at
+    the benchmark's share of the rated speed."""
+    import yaml
+    m = machine or Machine()
+    rng = random.Random(seed * 1000 + index)
+    with open(os.path.join(TOP, "deploy", "scenarios", "benchmark.yaml")) as f:
+        sequence = yaml.safe_load(f)["faults"]
+    turbines, faults = [], []
+    for k in range(4):
+        tid = f"WT{k + 1:02d}"
+        wind = {"mean": round(rng.uniform(15.0, 22.0), 1), "turbulence_intensity": round(rng.uniform(0.06, 0.2), 3),
+                "shear_exponent": round(rng.uniform(0.1, 0.3), 3), "shear_variation": 0.03}
+        turbines.append({"id": tid, "wind": wind})
+        shift = rng.randint(-300, 300)
+        blades = [1, 2, 3]
+        rng.shuffle(blades)
+        for f in sequence:
+            g = dict(f)
+            g["turbine"] = tid
+            g["start"] = f["start"] + shift
+            if "end" in g:
+                g["end"] = f["end"] + shift
+            for prefix in ("pitch_actuator_", "pitch_"):
+                if g["target"].startswith(prefix) and g["target"][len(prefix):].isdigit():
+                    g["target"] = f"{prefix}{blades[int(g['target'][len(prefix):]) - 1]}"
+                    break
+            if g["target"] == "rotor_speed" and g["type"] == "stuck":
+                g["value"] = round(f["value"] / RATED_SPEED * m.rated_speed, 3)
+            faults.append(g)
+    out = {"duration": 4800, "seed": seed * 1000 + index, "turbines": turbines, "faults": faults}
+    if m.file:
+        out["turbine_file"] = m.file
+    return out
+
+
 def dump_yaml(s):
     def flow(d):
         return "{" + ", ".join(f"{k}: {v}" for k, v in d.items()) + "}"
@@ -358,6 +422,10 @@ def main():
     g.add_argument("--faults", default="3-8", help="range of faults per turbine (3-8)")
     g.add_argument("--healthy", action="store_true",
                    help="no faults: each scenario an hour at 8, 12, 16 and 20 m/s (healthy hours, false alarms)")
+    g.add_argument("--edge", action="store_true",
+                   help="no faults: each scenario an hour at 4.5-6, 5-7, 21-23 and 23-25 m/s, turbulence 0.16-0.24")
+    g.add_argument("--benchmark-sequence", action="store_true",
+                   help="the benchmark's ten faults on each of four turbines, shifted, blades permuted, 15-22 m/s")
     g.add_argument("--turbine-file", default="", help="draw for this turbine (default: the benchmark turbine); "
                    "run them with every service's turbine_file --set to it")
     r = sub.add_parser("run")
@@ -379,8 +447,15 @@ def main():
             with open(path, "w") as f:
                 rng_of = lambda text: tuple(int(x) for x in text.split("-"))
                 machine = Machine(a.turbine_file)
-                f.write(dump_yaml(healthy(a.seed, k, machine) if a.healthy else
-                                  generate(a.seed, k, rng_of(a.turbines), rng_of(a.faults), machine)))
+                if a.healthy:
+                    scenario = healthy(a.seed, k, machine)
+                elif a.edge:
+                    scenario = edge(a.seed, k, machine)
+                elif a.benchmark_sequence:
+                    scenario = benchmark_sequence(a.seed, k, machine)
+                else:
+                    scenario = generate(a.seed, k, rng_of(a.turbines), rng_of(a.faults), machine)
+                f.write(dump_yaml(scenario))
             print(path)
         return 0
     if a.set and a.mode != "fast":
