@@ -157,6 +157,15 @@ def draw_wind(rng, mean):
             "shear_exponent": round(rng.uniform(0.1, 0.3), 3), "shear_variation": 0.03}
 
 
+def scenario(duration, seed, turbines, faults, m):
+    """A scenario as system_replay reads it, drawn for machine `m` (its turbine file named when not the
+    benchmark's)."""
+    out = {"duration": duration, "seed": seed, "turbines": turbines, "faults": faults}
+    if m.file:
+        out["turbine_file"] = m.file
+    return out
+
+
 def generate(seed, index, turbine_range=(1, 4), fault_range=(3, 8), machine=None):
     m = machine or Machine()
     rng = random.Random(seed * 1000 + index)
@@ -204,10 +213,7 @@ def generate(seed, index, turbine_range=(1, 4), fault_range=(3, 8), machine=None
             t = t + (length * rng.uniform(0.3, 0.7) if overlap else length + rng.uniform(200, 400))
         faults += timeline
         duration = max(duration, int(t + 200))
-    out = {"duration": duration, "seed": seed * 1000 + index, "turbines": turbines, "faults": faults}
-    if m.file:
-        out["turbine_file"] = m.file
-    return out
+    return scenario(duration, seed * 1000 + index, turbines, faults, m)
 
 
 def healthy(seed, index, machine=None):
@@ -215,10 +221,7 @@ def healthy(seed, index, machine=None):
     m = machine or Machine()
     rng = random.Random(seed * 1000 + index)
     turbines = [{"id": f"WT{k + 1:02d}", "wind": draw_wind(rng, w)} for k, w in enumerate([8.0, 12.0, 16.0, 20.0])]
-    out = {"duration": 3600, "seed": seed * 1000 + index, "turbines": turbines, "faults": []}
-    if m.file:
-        out["turbine_file"] = m.file
-    return out
+    return scenario(3600, seed * 1000 + index, turbines, [], m)
 
 
 # The edges of the operating envelope the fault draws stay inside (6-22 m/s, turbulence 0.06-0.16): light and
@@ -239,10 +242,7 @@ def edge(seed, index, machine=None):
                 "turbulence_intensity": round(rng.uniform(*EDGE_TURBULENCE), 3),
                 "shear_exponent": round(rng.uniform(0.05, 0.35), 3), "shear_variation": 0.03}
         turbines.append({"id": f"WT{k + 1:02d}", "wind": wind})
-    out = {"duration": 3600, "seed": seed * 1000 + index, "turbines": turbines, "faults": []}
-    if m.file:
-        out["turbine_file"] = m.file
-    return out
+    return scenario(3600, seed * 1000 + index, turbines, [], m)
 
 
 def benchmark_sequence(seed, index, machine=None):
@@ -277,10 +277,7 @@ def benchmark_sequence(seed, index, machine=None):
             if g["target"] == "rotor_speed" and g["type"] == "stuck":
                 g["value"] = round(f["value"] / RATED_SPEED * m.rated_speed, 3)
             faults.append(g)
-    out = {"duration": 4800, "seed": seed * 1000 + index, "turbines": turbines, "faults": faults}
-    if m.file:
-        out["turbine_file"] = m.file
-    return out
+    return scenario(4800, seed * 1000 + index, turbines, faults, m)
 
 
 def dump_yaml(s):
@@ -448,14 +445,14 @@ def main():
                 rng_of = lambda text: tuple(int(x) for x in text.split("-"))
                 machine = Machine(a.turbine_file)
                 if a.healthy:
-                    scenario = healthy(a.seed, k, machine)
+                    drawn = healthy(a.seed, k, machine)
                 elif a.edge:
-                    scenario = edge(a.seed, k, machine)
+                    drawn = edge(a.seed, k, machine)
                 elif a.benchmark_sequence:
-                    scenario = benchmark_sequence(a.seed, k, machine)
+                    drawn = benchmark_sequence(a.seed, k, machine)
                 else:
-                    scenario = generate(a.seed, k, rng_of(a.turbines), rng_of(a.faults), machine)
-                f.write(dump_yaml(scenario))
+                    drawn = generate(a.seed, k, rng_of(a.turbines), rng_of(a.faults), machine)
+                f.write(dump_yaml(drawn))
             print(path)
         return 0
     if a.set and a.mode != "fast":

@@ -144,7 +144,7 @@ bool EfficiencyMonitor::step_shaped(double inertia_ratio, double share) const {
     // suite's loss 74 s after another one's end (set 90) waited 99 s for the first step to leave the window.
     if (b.t < regime_from_) continue;
     x.push_back(b.t);
-    y.push_back(b.generator_side / (b.rotor_side - inertia_ratio * b.inertia_torque));
+    y.push_back(b.efficiency(inertia_ratio));
   }
   // Too few blocks since that end to tell the shapes apart: the drop waits for more.
   if (y.size() < 12) return false;
@@ -153,20 +153,16 @@ bool EfficiencyMonitor::step_shaped(double inertia_ratio, double share) const {
 
 double EfficiencyMonitor::ratio(std::size_t from, std::size_t n, double inertia_ratio) const {
   double s = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Block& b = blocks_[blocks_.size() - 1 - from - i];
-    s += b.generator_side / (b.rotor_side - inertia_ratio * b.inertia_torque);
-  }
+  for (std::size_t i = 0; i < n; ++i) s += blocks_[blocks_.size() - 1 - from - i].efficiency(inertia_ratio);
   return s / static_cast<double>(n);
 }
 
-double EfficiencyMonitor::ratio_spread(std::size_t from, std::size_t n, double inertia_ratio) const {
+double EfficiencyMonitor::ratio_spread(std::size_t from, std::size_t n, double inertia_ratio,
+                                       double mean) const {
   if (n < 2) return 0.0;
-  const double mean = ratio(from, n, inertia_ratio);
   double s = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    const Block& b = blocks_[blocks_.size() - 1 - from - i];
-    const double d = b.generator_side / (b.rotor_side - inertia_ratio * b.inertia_torque) - mean;
+    const double d = blocks_[blocks_.size() - 1 - from - i].efficiency(inertia_ratio) - mean;
     s += d * d;
   }
   return std::sqrt(s / static_cast<double>(n - 1));
@@ -194,7 +190,7 @@ void EfficiencyMonitor::evaluate() {
     // The drop's standard error from the reference's own scatter: a mean of the test's blocks against one of
     // the reference's, as if the blocks were independent (noise_sigmas carries their correlation).
     state_.standard_error =
-        ratio_spread(test + gap, reference, weighed) *
+        ratio_spread(test + gap, reference, weighed, state_.reference) *
         std::sqrt(1.0 / static_cast<double>(test) + 1.0 / static_cast<double>(reference)) / state_.reference;
     // An iced rotor loses Cp too, which the balance cannot tell from a lossy gearbox by the drop alone; its
     // larger inertia it can: while the reference blocks weigh the rotor heavier than iced_inertia_ratio, a

@@ -103,6 +103,10 @@ class EfficiencyMonitor {
   struct Block {
     double generator_side = 0.0, rotor_side = 0.0, inertia_torque = 0.0;
     double t = 0.0;  ///< s, the block's end
+    /// Its efficiency with the rotor's inertia scaled by `inertia_ratio`.
+    double efficiency(double inertia_ratio) const {
+      return generator_side / (rotor_side - inertia_ratio * inertia_torque);
+    }
   };
   void close_block();
   void reset_block();  // drops the block in progress
@@ -111,8 +115,8 @@ class EfficiencyMonitor {
   double fitted_inertia_ratio(std::size_t from, std::size_t n) const;
   /// Mean of the blocks' efficiencies with the rotor inertia scaled by `inertia_ratio`.
   double ratio(std::size_t from, std::size_t n, double inertia_ratio) const;
-  /// Sample standard deviation of the blocks' ratios over the same n blocks.
-  double ratio_spread(std::size_t from, std::size_t n, double inertia_ratio) const;
+  /// Sample standard deviation of the blocks' ratios over the same n blocks, whose mean is `mean`.
+  double ratio_spread(std::size_t from, std::size_t n, double inertia_ratio, double mean) const;
   /// Whether a step fits the blocks' efficiencies better than a bend (step_shape): its misfit below `share`
   /// of the bend's. The blocks are all those kept, back to the end of the last loss that cleared.
   bool step_shaped(double inertia_ratio, double share) const;

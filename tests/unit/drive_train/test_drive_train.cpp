@@ -1030,15 +1030,13 @@ TEST(EfficiencyMonitor, FittedInertiaRatioIsOneOnAHealthyRotorAndAboveTheIceGuar
   }
 }
 
-}  // namespace
-
 TEST(EfficiencyMonitor, ADropWithinItsReferencesScatterIsNotRaisedAndOneBeyondItIs) {
   // GIVEN the monitor as shipped on a steady rotor whose 5 s blocks read efficiencies alternating 0.97 +- 3.5
   // % (the scatter of a poor Cp model: the Cp model far up the pitch curve on a point anemometer, 22-25 m/s
-  // at turbulence 0.2-0.24, where the healthy hours of sets 300-304 raised 17 false efficiency losses of
-  // 3.5-5.0 %, each 1.7-3.5 standard errors of the reference's own scatter), and from 300 s a drop of 4.2 %
+  // at turbulence 0.2-0.24, where healthy hours raised false efficiency losses of 3.5-5.0 %, each 1.7-3.5
+  // standard errors of the reference's own scatter), and from 300 s a drop of 4.2 %
   // (past efficiency_step, within three standard errors: 1.6 % each) or 7 %
-  EfficiencyConfig shipped_config = shipped().config.efficiency;
+  const EfficiencyConfig& shipped_config = shipped().config.efficiency;
   const auto raised_at = [&](double drop, double noise_sigmas) {
     EfficiencyConfig c = shipped_config;
     c.noise_sigmas = noise_sigmas;
@@ -1101,3 +1099,5 @@ TEST(DriveTrainDiagnoser, AStepInCalmWindStandsFarAboveItsScatter) {
     }
   }
 }
+
+}  // namespace
