@@ -44,6 +44,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
                         "stuck_samples",
                         "type_evidence",
                         "type_evidence_at_deadline",
+                        "type_evidence_small_sample",
                         "type_decision_time_rotor_speed",
                         "type_decision_time_generator_speed",
                         "type_decision_time_generator_speed_below_rated",
@@ -104,6 +105,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   c.type_evidence = s.get_number("type_evidence", c.type_evidence, 0.0, 1e6);
   c.type_evidence_at_deadline =
       s.get_number("type_evidence_at_deadline", c.type_evidence_at_deadline, 0.0, c.type_evidence);
+  c.type_evidence_small_sample = s.get<bool>("type_evidence_small_sample", c.type_evidence_small_sample);
   c.type_decision_time[0] =
       s.get_number("type_decision_time_rotor_speed", c.type_decision_time[0], 0.0, 3600.0);
   c.type_decision_time[1] =
@@ -190,8 +192,11 @@ BiasEstimator::BiasEstimator(const BiasConfig& config, const GainFile& dt, const
   // converter model's error and the controller's response, is correlated over a few samples, which sample by
   // sample would count as independent evidence: in closed loop that decided 3 of 55 faults wrongly at 16),
   // and the pitch on its reference, sample by sample.
-  fault_type_[0] = GainOrOffsetTest(std::max(1, static_cast<int>(std::lround(0.5 / T))), false);
-  fault_type_[1] = GainOrOffsetTest(std::max(1, static_cast<int>(std::lround(0.1 / T))), true);
+  const bool small_sample = cfg_.type_evidence_small_sample;
+  fault_type_[0] = GainOrOffsetTest(std::max(1, static_cast<int>(std::lround(0.5 / T))), false, small_sample);
+  fault_type_[1] = GainOrOffsetTest(std::max(1, static_cast<int>(std::lround(0.1 / T))), true, small_sample);
+  for (std::size_t j = 2; j < static_cast<std::size_t>(kChannels); ++j)
+    fault_type_[j] = GainOrOffsetTest(1, false, small_sample);
 }
 
 double BiasEstimator::aero_torque(const FrameSample& s) const {

@@ -96,6 +96,11 @@ struct BiasConfig {
   /// 5: 12 times likelier) or the simpler model, the offset, is reported. The rotor speed's slow residual
   /// makes its evidence run high: offsets reached 2.4-4.7 there in the suite.
   double type_evidence_at_deadline = 5.0;
+  /// The evidence's noise variance comes from the record itself (blocks - 3 degrees of freedom): true takes
+  /// the chi-square value of the resulting F statistic's tail probability, so that a record of a few blocks
+  /// decides nothing by chance (four 0.5 s blocks of a rotor-speed gain gave 50 "against a gain"); false: the
+  /// ratio itself, as before stop 71.
+  bool type_evidence_small_sample = true;
   /// A pitch channel whose error the full model [1, reference, rate] fits this much better (the same
   /// likelihood ratio) than both the offset and the gain is no sensor fault: it is not raised (the blade's
   /// dynamics changed, pitch_diag's to report). Measured on the plant: pitch sensor offsets and gains 0-8,

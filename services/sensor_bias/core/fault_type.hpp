@@ -22,8 +22,12 @@ class GainOrOffsetTest {
 
   GainOrOffsetTest() = default;
   /// `regressor_is_reading`: x is the faulty reading (else the witness).
-  GainOrOffsetTest(int block_samples, bool regressor_is_reading)
-      : block_samples_(block_samples < 1 ? 1 : block_samples), regressor_is_reading_(regressor_is_reading) {}
+  /// `small_sample`: the evidence is the chi-square value of the F statistic's tail probability (else the
+  /// ratio itself, as before stop 71).
+  GainOrOffsetTest(int block_samples, bool regressor_is_reading, bool small_sample = true)
+      : block_samples_(block_samples < 1 ? 1 : block_samples),
+        regressor_is_reading_(regressor_is_reading),
+        small_sample_(small_sample) {}
 
   /// Forgets everything: the next sample starts the record (call at the fault's onset).
   void restart();
@@ -64,6 +68,7 @@ class GainOrOffsetTest {
 
   int block_samples_ = 1;
   bool regressor_is_reading_ = false;
+  bool small_sample_ = true;
   int in_block_ = 0;
   Eigen::Vector3d block_sum_ = Eigen::Vector3d::Zero();  // e, x, z of the block being filled
   Eigen::Matrix3d uu_ = Eigen::Matrix3d::Zero();         // sums of u u^T, u = [1, x, z]

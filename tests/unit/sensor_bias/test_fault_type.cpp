@@ -136,3 +136,49 @@ TEST(GainOrOffset, AtZeroTheOnlyFitIsTheOffsetAndRestartForgets) {
   EXPECT_EQ(test.evidence(), 0.0);
   EXPECT_EQ(test.verdict(16.0), Verdict::kUndecided);
 }
+
+TEST(GainOrOffset, AFewBlocksDecideNothingByChance) {
+  // GIVEN 4000 records of a rotor speed's gain of 1.1 at a steady 2.2 rad/s (0.01 rad/s of wander between 0.5
+  // s blocks, 0.003 rad/s of witness error per block), each 4-8 blocks long: two to four seconds after an
+  // onset, where the noise variance comes from one to five degrees of freedom
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> wander(0.0, 0.01), witness_error(0.0, 0.003);
+  int decided_ratio = 0, decided_small_sample = 0;
+  for (int r = 0; r < 4000; ++r) {
+    GainOrOffsetTest ratio(1, false, false), small_sample(1, false, true);
+    const int blocks = 4 + r % 5;
+    for (int i = 0; i < blocks; ++i) {
+      const double x = 2.2 + wander(rng), e = 0.1 * x + witness_error(rng);
+      ratio.add(e, x);
+      small_sample.add(e, x);
+    }
+    decided_ratio += ratio.verdict(16.0) != Verdict::kUndecided;
+    decided_small_sample += small_sample.verdict(16.0) != Verdict::kUndecided;
+  }
+  // THEN the ratio itself, read as a chi-square(1) value, decides more than 0.5 % of them either way (80
+  // times what a chi-square at 16 would: 1 in 16 000); taken at the F statistic's tail probability, none is
+  // decided
+  EXPECT_GT(decided_ratio, 20);
+  EXPECT_EQ(decided_small_sample, 0);
+}
+
+TEST(GainOrOffset, ALongRecordKeepsItsVerdict) {
+  // GIVEN the generator speed's gains of 0.995, 0.99 and 0.98 on a swinging quantity over 10 s, 1000 blocks
+  const auto record = [](double gain, bool small_sample) {
+    Quantity q{160.0, 3.0, 0.5};
+    GainOrOffsetTest test(1, true, small_sample);
+    for (int i = 0; i < 1000; ++i) {
+      const double y = gain * q.at(i) + 0.1 * q.noisy(), w = q.at(i) + q.noisy();
+      test.add(y - w, y);
+    }
+    return test;
+  };
+  for (const double gain : {0.995, 0.99, 0.98}) {
+    const GainOrOffsetTest ratio = record(gain, false), small_sample = record(gain, true);
+    // THEN with 997 degrees of freedom both decide alike, and near the threshold the F statistic's chi-square
+    // value is the ratio's within 1 %
+    EXPECT_EQ(small_sample.verdict(16.0), ratio.verdict(16.0)) << gain << ": " << ratio.evidence();
+    EXPECT_LE(small_sample.evidence(), ratio.evidence());
+    if (ratio.evidence() < 40.0) EXPECT_NEAR(small_sample.evidence() / ratio.evidence(), 1.0, 0.01) << gain;
+  }
+}
