@@ -4,7 +4,8 @@ set -euo pipefail
 top=$(cd "$(dirname "$0")/../.." && pwd)
 build=${WINDFDI_BUILD_DIR:-$top/build}
 start=$(date +%s)
-"$top/deploy/scripts/setup.sh"
+# The tests build with warnings as errors (README "Tests": every target builds without a warning).
+WINDFDI_WARNINGS_AS_ERRORS=ON "$top/deploy/scripts/setup.sh"
 built=$(date +%s)
 
 # Tests must not inherit variables that silently change Fast DDS behaviour.

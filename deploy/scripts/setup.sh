@@ -26,7 +26,8 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 jobs=$(nproc 2>/dev/null || echo 2)
-cmake -S "$top" -B "$build" -DCMAKE_BUILD_TYPE="${WINDFDI_BUILD_TYPE:-Release}" >/dev/null
+cmake -S "$top" -B "$build" -DCMAKE_BUILD_TYPE="${WINDFDI_BUILD_TYPE:-Release}" \
+  -DWINDFDI_WARNINGS_AS_ERRORS="${WINDFDI_WARNINGS_AS_ERRORS:-OFF}" >/dev/null
 start=$(date +%s)
 if ! cmake --build "$build" -j "$jobs" >"$build/build.log" 2>&1; then
   tail -60 "$build/build.log"

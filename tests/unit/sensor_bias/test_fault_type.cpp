@@ -179,6 +179,8 @@ TEST(GainOrOffset, ALongRecordKeepsItsVerdict) {
     // value is the ratio's within 1 %
     EXPECT_EQ(small_sample.verdict(16.0), ratio.verdict(16.0)) << gain << ": " << ratio.evidence();
     EXPECT_LE(small_sample.evidence(), ratio.evidence());
-    if (ratio.evidence() < 40.0) EXPECT_NEAR(small_sample.evidence() / ratio.evidence(), 1.0, 0.01) << gain;
+    if (ratio.evidence() < 40.0) {
+      EXPECT_NEAR(small_sample.evidence() / ratio.evidence(), 1.0, 0.01) << gain;
+    }
   }
 }
