@@ -14,7 +14,9 @@ reports per turbine-hour and by safe stops no injected fault warrants.
 Modes: `fast` runs the plant, the four services' cores and the arbiter in one process (tests/perf/system_replay
 --scenario: closed loop like the DDS system, exact inter-service timing, minutes for 30 scenarios); `dds` runs the
 real system (deploy/scripts/launch_farm.sh: plant, services, arbiter and farm monitor as DDS participants on
-a private domain, closed loop) at --rate (the highest that keeps up on 2 cores: 20 for up to 4 turbines).
+a private domain, closed loop) at --rate (the highest that keeps up on 2 cores: 20 for up to 4 turbines), one
+scenario at a time unless --jobs says more (each on its own domain id: the domain, WINDFDI_DOMAIN or one drawn
+from the process id, plus the scenario's index).
 Exit code 1 when --require targets are given and missed (CI runs a 3-scenario subset that way).
 """
 import argparse
@@ -303,10 +305,11 @@ def run_fast(scenario, work, settings=()):
     return history
 
 
-def run_dds(scenario, work, rate):
+def run_dds(scenario, work, rate, index=0):
     env = dict(os.environ)
     env.setdefault("WINDFDI_PARTICIPANT_PROFILE", "windfdi_participant_loopback")
-    env["WINDFDI_DOMAIN"] = str(env.get("WINDFDI_DOMAIN") or (150 + os.getpid() % 80))
+    # Scenarios run at once (--jobs) each get their own domain: their turbines share ids.
+    env["WINDFDI_DOMAIN"] = str(int(env.get("WINDFDI_DOMAIN") or (150 + os.getpid() % 80)) + index)
     subprocess.run([os.path.join(TOP, "deploy", "scripts", "launch_farm.sh"), scenario, "--rate", str(rate),
                     "--work", work, "--table-period", "0"], check=True, env=env,
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -463,11 +466,12 @@ def main():
     work_root = a.work or tempfile.mkdtemp(prefix="windfdi-suite-")
 
     def one(f):
+        index = files.index(f)
         work = os.path.join(work_root, os.path.splitext(os.path.basename(f))[0])
         shutil.rmtree(work, ignore_errors=True)
         os.makedirs(work)
         try:
-            history = run_fast(f, work, a.set) if a.mode == "fast" else run_dds(f, work, a.rate)
+            history = run_fast(f, work, a.set) if a.mode == "fast" else run_dds(f, work, a.rate, index)
             return report(f, history)
         except subprocess.CalledProcessError as e:
             print(f"multi_fault_suite: {os.path.basename(f)}: {e} {e.stderr or ''}", file=sys.stderr)
