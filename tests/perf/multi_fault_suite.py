@@ -15,8 +15,8 @@ Modes: `fast` runs the plant, the four services' cores and the arbiter in one pr
 --scenario: closed loop like the DDS system, exact inter-service timing, minutes for 30 scenarios); `dds` runs the
 real system (deploy/scripts/launch_farm.sh: plant, services, arbiter and farm monitor as DDS participants on
 a private domain, closed loop) at --rate (the highest that keeps up on 2 cores: 20 for up to 4 turbines), one
-scenario at a time unless --jobs says more (each on its own domain id: the domain, WINDFDI_DOMAIN or one drawn
-from the process id, plus the scenario's index).
+scenario at a time unless --jobs says more (each running scenario on its own domain id, from WINDFDI_DOMAIN or
+one drawn from the process id up to jobs - 1 more).
 Exit code 1 when --require targets are given and missed (CI runs a 3-scenario subset that way).
 """
 import argparse
@@ -25,6 +25,7 @@ import glob
 import json
 import math
 import os
+import queue
 import random
 import shutil
 import subprocess
@@ -305,11 +306,10 @@ def run_fast(scenario, work, settings=()):
     return history
 
 
-def run_dds(scenario, work, rate, index=0):
+def run_dds(scenario, work, rate, domain):
     env = dict(os.environ)
     env.setdefault("WINDFDI_PARTICIPANT_PROFILE", "windfdi_participant_loopback")
-    # Scenarios run at once (--jobs) each get their own domain: their turbines share ids.
-    env["WINDFDI_DOMAIN"] = str(int(env.get("WINDFDI_DOMAIN") or (150 + os.getpid() % 80)) + index)
+    env["WINDFDI_DOMAIN"] = str(domain)
     subprocess.run([os.path.join(TOP, "deploy", "scripts", "launch_farm.sh"), scenario, "--rate", str(rate),
                     "--work", work, "--table-period", "0"], check=True, env=env,
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -463,22 +463,36 @@ def main():
     files = []
     for s in a.scenarios:
         files += sorted(glob.glob(os.path.join(s, "*.yaml"))) if os.path.isdir(s) else [s]
+    # fast: one scenario per core; dds: one at a time (a scenario's processes share the two cores).
+    jobs = a.jobs or (os.cpu_count() or 2 if a.mode == "fast" else 1)
+    # dds: the scenarios running at once each hold one domain of base .. base + jobs - 1 (their turbines share
+    # ids), handed back when they end, so a folder of any size stays within those.
+    base = int(os.environ.get("WINDFDI_DOMAIN") or (150 + os.getpid() % 80))
+    if a.mode == "dds" and base + jobs - 1 > 232:
+        ap.error(f"domains {base}..{base + jobs - 1} for --jobs {jobs}: a DDS domain id is at most 232")
+    domains = queue.Queue()
+    for k in range(jobs):
+        domains.put(base + k)
     work_root = a.work or tempfile.mkdtemp(prefix="windfdi-suite-")
 
     def one(f):
-        index = files.index(f)
         work = os.path.join(work_root, os.path.splitext(os.path.basename(f))[0])
         shutil.rmtree(work, ignore_errors=True)
         os.makedirs(work)
         try:
-            history = run_fast(f, work, a.set) if a.mode == "fast" else run_dds(f, work, a.rate, index)
+            if a.mode == "fast":
+                history = run_fast(f, work, a.set)
+            else:
+                domain = domains.get()
+                try:
+                    history = run_dds(f, work, a.rate, domain)
+                finally:
+                    domains.put(domain)
             return report(f, history)
         except subprocess.CalledProcessError as e:
             print(f"multi_fault_suite: {os.path.basename(f)}: {e} {e.stderr or ''}", file=sys.stderr)
             return None
 
-    # fast: one scenario per core; dds: one at a time (a scenario's processes share the two cores).
-    jobs = a.jobs or (os.cpu_count() or 2 if a.mode == "fast" else 1)
     with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
         results = list(pool.map(one, files))
     failed = [f for f, r in zip(files, results) if r is None]
