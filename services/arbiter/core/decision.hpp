@@ -39,7 +39,7 @@ struct ArbiterConfig {
   /// s a fault of a class that warrants a safe stop must hold its stop severity (critical) with its
   /// class unchanged before the turbine is stopped (0..600). A stop costs production and is latched until
   /// an operator acknowledges it, so a pressure drop that passes is no cause: the FDI/FTC benchmark's leak
-  /// (30 s ramp in, 40 s at full size, 30 s ramp out) reads critical for 52 s and is carried on the
+  /// (30 s ramp in, 40 s at full size, 30 s ramp out) reads critical for 38 s and is carried on the
   /// reversible derate; one that holds 90 s stops.
   double stop_confirm_time = 90.0;
   /// s after another class was raised on the same component during which its class is uncertain (0..3600):

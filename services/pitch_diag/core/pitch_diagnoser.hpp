@@ -61,9 +61,15 @@ struct PitchDiagConfig {
                                    ///< only with this evidence against the raised class's signature (sigma^2;
                                    ///< 100: 10 sigma, four times what evidence_min asks against the healthy
                                    ///< actuator: wrong renamings passed 25). 0: off
-  double clear_evidence = 25.0;    ///< bank: a raised class clears only with this evidence against its own
-                                   ///< signature (sigma^2; 25: 5 sigma), besides alpha below alpha_clear for
-                                   ///< clear_time: not on the initial model a hold leaves. 0: off
+  /// A raised class whose alpha fell below this share of its peak since it was raised, at a point nearer the
+  /// healthy actuator than that peak's, is receding: another class must hold for clear_time, not
+  /// confirm_time, before it is named in its place, and a receding critical leak with the data against its
+  /// signature (clear_evidence) is reported again below critical. The benchmark's leak ramped out over 30 s
+  /// passed the pump-wear point on its way back. 0: off
+  double recede_share = 0.6;
+  double clear_evidence = 25.0;     ///< bank: a raised class clears only with this evidence against its own
+                                    ///< signature (sigma^2; 25: 5 sigma), besides alpha below alpha_clear for
+                                    ///< clear_time: not on the initial model a hold leaves. 0: off
   double max_tracking_error = 5.0;  ///< deg; |reference - pitch| above it means the actuator is at its rate
                                     ///< limit (a safe stop's jump to feather): the linear model does not hold
                                     ///< and nothing is identified. Healthy lag 1 deg at 10 deg/s; 0 disables
@@ -173,6 +179,8 @@ class BladeDiagnoser {
   std::string raised_;  // "" when nothing is raised
   std::string raised_severity_;
   double raised_detected_ = 0.0;
+  double raised_peak_alpha_ = 0.0;      // largest alpha on the raised class's path since it was raised
+  double raised_peak_excursion_ = 0.0;  // largest normalised distance from the healthy actuator since then
   double decide_from_ = -1e300;         // sample time before which no class is confirmed
   double identifying_since_ = -1e300;   // sample time the identification last started from the healthy model
   double excited_since_healthy_ = 0.0;  // s of excited data since the blade last looked healthy

@@ -866,6 +866,7 @@ TEST(PitchDiagConfig, DefaultsAndShippedFileLoad) {
   EXPECT_DOUBLE_EQ(f.identifier.information_ref, c.identifier.information_ref);
   EXPECT_DOUBLE_EQ(f.identifier.evidence_max, c.identifier.evidence_max);
   EXPECT_DOUBLE_EQ(f.past_short_evidence, c.past_short_evidence);
+  EXPECT_DOUBLE_EQ(f.recede_share, c.recede_share);
 }
 
 TEST(PitchDiagConfig, RejectsUnknownKeysAndOutOfRangeValues) {
@@ -873,6 +874,7 @@ TEST(PitchDiagConfig, RejectsUnknownKeysAndOutOfRangeValues) {
   EXPECT_THROW(load_pitch_diag_config(yaml("confirm_tme: 3")), ConfigError);
   EXPECT_THROW(load_pitch_diag_config(yaml("lambda: 1.5")), ConfigError);
   EXPECT_THROW(load_pitch_diag_config(yaml("information_ref: -0.01")), ConfigError);
+  EXPECT_THROW(load_pitch_diag_config(yaml("recede_share: 1.5")), ConfigError);
   EXPECT_THROW(load_pitch_diag_config(yaml("evidence_max: -1")), ConfigError);
   EXPECT_THROW(load_pitch_diag_config(yaml("p: 2.5")), ConfigError);
   EXPECT_THROW(load_pitch_diag_config(yaml("method: kalman")), ConfigError);
