@@ -67,9 +67,12 @@ struct PitchDiagConfig {
   /// signature (clear_evidence) is reported again below critical. The benchmark's leak ramped out over 30 s
   /// passed the pump-wear point on its way back. 0: off
   double recede_share = 0.6;
-  double clear_evidence = 25.0;     ///< bank: a raised class clears only with this evidence against its own
-                                    ///< signature (sigma^2; 25: 5 sigma), besides alpha below alpha_clear for
-                                    ///< clear_time: not on the initial model a hold leaves. 0: off
+  double clear_evidence = 25.0;  ///< bank: a raised class clears only with this evidence against its own
+                                 ///< signature (sigma^2; 25: 5 sigma), besides alpha below alpha_clear for
+                                 ///< clear_time: not on the initial model a hold leaves. 0: off
+  /// true: the clear_evidence must be reached once within clear_time's spell below alpha_clear; false: on
+  /// every decision of it (before stop 73)
+  bool clear_refuted_once = true;
   double max_tracking_error = 5.0;  ///< deg; |reference - pitch| above it means the actuator is at its rate
                                     ///< limit (a safe stop's jump to feather): the linear model does not hold
                                     ///< and nothing is identified. Healthy lag 1 deg at 10 deg/s; 0 disables
@@ -176,7 +179,8 @@ class BladeDiagnoser {
   Classification cls_;
   std::string candidate_ = "none";
   double pending_ = 0.0, candidate_since_ = 0.0, clear_pending_ = 0.0, candidate_alpha_ = 0.0;
-  std::string raised_;  // "" when nothing is raised
+  bool clear_refuted_ = false;  // clear_evidence reached within the current spell below alpha_clear
+  std::string raised_;          // "" when nothing is raised
   std::string raised_severity_;
   double raised_detected_ = 0.0;
   double raised_peak_alpha_ = 0.0;      // largest alpha on the raised class's path since it was raised

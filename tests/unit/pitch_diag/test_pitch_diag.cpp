@@ -867,6 +867,7 @@ TEST(PitchDiagConfig, DefaultsAndShippedFileLoad) {
   EXPECT_DOUBLE_EQ(f.identifier.evidence_max, c.identifier.evidence_max);
   EXPECT_DOUBLE_EQ(f.past_short_evidence, c.past_short_evidence);
   EXPECT_DOUBLE_EQ(f.recede_share, c.recede_share);
+  EXPECT_EQ(f.clear_refuted_once, c.clear_refuted_once);
 }
 
 TEST(PitchDiagConfig, RejectsUnknownKeysAndOutOfRangeValues) {
