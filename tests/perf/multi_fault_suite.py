@@ -353,7 +353,7 @@ def judge(reports):
         for f in r["faults"]:
             cls = f["expected"] or f"{f['target']}:{f['type']} (not covered)"
             c = per_class.setdefault(cls, {"n": 0, "first": 0, "later": 0, "missed": 0, "late": 0, "late_full": 0,
-                                           "stopped": 0, "delays": []})
+                                           "stopped": 0, "renamed": 0, "delays": []})
             if not f["expected"]:
                 c["n"] += 1
                 continue
@@ -368,6 +368,9 @@ def judge(reports):
                 c["missed"] += 1
             elif first_ok:
                 c["first"] += 1
+                # Named once: no other class raised in its place later (an intermittent gauge's first abrupt
+                # is its own first name)
+                c["renamed"] += any(x not in (f["expected"], f["first"]) for x in f["then"] or [])
                 c["delays"].append(f["delay"])
                 if f["delay"] > delay_target(f):
                     c["late"] += 1
@@ -384,19 +387,20 @@ def judge(reports):
 
 
 def print_tables(per_class, stops_bad, stops_all, unexpected, secondary, hours, n_scen):
-    print(f"{'CLASS':<42} {'N':>3} {'FIRST':>5} {'LATER':>5} {'MISSED':>6} {'LATE':>4} {'LATE*':>5} {'STOPPED':>7} "
-          f"{'MEDIAN s':>8} {'MAX s':>7}")
-    covered = right = within = within_full = 0
+    print(f"{'CLASS':<42} {'N':>3} {'FIRST':>5} {'RENAMED':>7} {'LATER':>5} {'MISSED':>6} {'LATE':>4} {'LATE*':>5} "
+          f"{'STOPPED':>7} {'MEDIAN s':>8} {'MAX s':>7}")
+    covered = right = within = within_full = renamed = 0
     for cls in sorted(per_class):
         c = per_class[cls]
         d = sorted(c["delays"])
         med = f"{d[len(d) // 2]:.1f}" if d else "-"
         mx = f"{d[-1]:.1f}" if d else "-"
-        print(f"{cls:<42} {c['n']:>3} {c['first']:>5} {c['later']:>5} {c['missed']:>6} {c['late']:>4} "
+        print(f"{cls:<42} {c['n']:>3} {c['first']:>5} {c['renamed']:>7} {c['later']:>5} {c['missed']:>6} {c['late']:>4} "
               f"{c['late_full']:>5} {c['stopped']:>7} {med:>8} {mx:>7}")
         if "(not covered)" not in cls:
             covered += c["n"]
             right += c["first"]
+            renamed += c["renamed"]
             within += c["first"] - c["late"]
             within_full += c["first"] - c["late_full"]
     for name, x in unexpected:
@@ -405,8 +409,8 @@ def print_tables(per_class, stops_bad, stops_all, unexpected, secondary, hours, 
     rate = len(unexpected) / hours * 10 if hours else 0.0
     share = 100.0 * right / covered if covered else 0.0
     print(f"{n_scen} scenarios, {hours:.1f} turbine-hours: {right} of {covered} covered faults right first "
-          f"({share:.1f} %), {within} within their class's delay from the onset ({within_full} from the end of "
-          f"a ramp-in, LATE*); {len(unexpected)} unexpected "
+          f"({share:.1f} %; {renamed} of them renamed later), {within} within their class's delay from the onset "
+          f"({within_full} from the end of a ramp-in, LATE*); {len(unexpected)} unexpected "
           f"({rate:.2f} per 10 turbine-hours), {secondary} secondary; {stops_all} safe stops, {stops_bad} not warranted")
     return share, rate, stops_bad
 
