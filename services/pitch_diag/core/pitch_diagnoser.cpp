@@ -347,21 +347,21 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) 
       cls_.fault_class = "none";  // too early on the longer path, or a ramp not yet named
   }
   const std::string& cls = cls_.fault_class;
-  // A raised class going back towards the healthy actuator is receding, and what it passes on its way is not
-  // another fault: the benchmark's leak, ramped out over 30 s, passes the pump-wear point (renamed pump_wear
-  // in 4 of 100 benchmark-sequence leaks, suite sets 380-384), and the bank's estimate, lagging the ramp's
-  // last seconds, dipped to high-air-content dynamics for 3-8 s (renamed high_air_content in 3, which stayed
-  // raised up to 285 s after the fault had ended). While receding, another class must hold as long as the
-  // raised one takes to clear (clear_time) before it is named in its place: a point passed on the way back
-  // does not, a fault the blade settles at does. Receding is back along the raised path and nearer the
-  // healthy actuator than at the peak: a high air content growing into a leak lowers the raised path's alpha
-  // too, but moves away from healthy.
   // Only a leak can stop the turbine: "critical" needs it well past the point it shares with pump wear.
   auto severity_of = [&](const std::string& fault, double alpha) -> std::string {
     if (fault == "hydraulic_leakage" && alpha >= cfg_->critical_alpha) return "critical";
     return alpha >= cfg_->fault_alpha ? "fault" : "warning";
   };
   auto rank = [](const std::string& sev) { return sev == "critical" ? 3 : sev == "fault" ? 2 : 1; };
+  // A raised class going back towards the healthy actuator is receding, and what it passes on its way is not
+  // another fault: the benchmark's leak, ramped out over 30 s, passes the pump-wear point (renamed pump_wear
+  // in 3 of 100 benchmark-sequence leaks, suite sets 380-384), and the bank's estimate, lagging the ramp's
+  // last seconds, dipped to high-air-content dynamics for 3-8 s (renamed high_air_content in 3, which stayed
+  // raised up to 285 s, once for good, after the fault had ended). While receding, another class must hold as
+  // long as the raised one takes to clear (clear_time) before it is named in its place: a point passed on the
+  // way back does not, a fault the blade settles at does. Receding is back along the raised path and nearer
+  // the healthy actuator than at the peak: a high air content growing into a leak lowers the raised path's
+  // alpha too, but moves away from healthy.
   bool receding = false;
   if (!raised_.empty()) {
     const int path = path_of(raised_);
