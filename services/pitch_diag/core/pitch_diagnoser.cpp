@@ -193,7 +193,7 @@ void BladeDiagnoser::emit(double t, const std::string& fault, bool raised, std::
   e.severity = raised ? raised_severity_ : "warning";
   e.t_detected = raised_detected_;
   const int path = path_of(fault);
-  const double alpha = path < 0 ? 0.0 : cls_.path_alpha[static_cast<std::size_t>(path)];
+  const double alpha = alpha_on(path);
   e.statistic = alpha;
   e.size = alpha;
   e.threshold = raised ? cfg_->classifier.alpha_detect : cfg_->alpha_clear;
@@ -365,12 +365,11 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) 
   bool receding = false;
   if (!raised_.empty()) {
     const int path = path_of(raised_);
-    const double alpha_raised = path < 0 ? 0.0 : cls_.path_alpha[static_cast<std::size_t>(path)];
-    const double excursion = std::hypot((model_.omega_n - sig[0].omega_n) / cfg_->classifier.omega_scale,
-                                        (model_.zeta - sig[0].zeta) / cfg_->classifier.zeta_scale);
+    const double alpha_raised = alpha_on(path);
     raised_peak_alpha_ = std::max(raised_peak_alpha_, alpha_raised);
-    raised_peak_excursion_ = std::max(raised_peak_excursion_, excursion);
-    receding = alpha_raised < cfg_->recede_share * raised_peak_alpha_ && excursion < raised_peak_excursion_;
+    raised_peak_excursion_ = std::max(raised_peak_excursion_, cls_.excursion);
+    receding =
+        alpha_raised < cfg_->recede_share * raised_peak_alpha_ && cls_.excursion < raised_peak_excursion_;
     // A critical leak receding, with the data against its raised signature, is reported again with the
     // severity of where it is: a leak going away is no cause to stop the turbine (the arbiter stops on
     // critical held for its stop_confirm_time, and a ramped-out leak that cleared 27 s after its end had been
@@ -430,7 +429,7 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) 
   // that followed a 10 s network outage (the reliability campaign), its estimate at exactly 11.11 rad/s, 0.6.
   if (!raised_.empty()) {
     const int path = path_of(raised_);
-    const double alpha_raised = path < 0 ? 0.0 : cls_.path_alpha[static_cast<std::size_t>(path)];
+    const double alpha_raised = alpha_on(path);
     const bool refuted_now =
         cfg_->clear_evidence <= 0.0 || id_.evidence_against_signature(path) >= cfg_->clear_evidence;
     if (cfg_->clear_refuted_once) {

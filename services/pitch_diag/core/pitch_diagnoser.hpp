@@ -171,6 +171,8 @@ class BladeDiagnoser {
   void emit(double t, const std::string& fault, bool raised, std::vector<FaultEvent>& events);
   /// The fault path (0-based: signatures[path + 1]) of a class, or -1.
   int path_of(const std::string& fault) const;
+  /// The classified point's alpha along a path of path_of (0 for -1).
+  double alpha_on(int path) const { return path < 0 ? 0.0 : cls_.path_alpha[static_cast<std::size_t>(path)]; }
 
   const PitchDiagConfig* cfg_;
   std::string component_;

@@ -97,6 +97,7 @@ Classification classify(double omega_n, double zeta, const ClassifierConfig& con
   // Normalised coordinates so that omega_n (rad/s) and zeta (1) are comparable.
   const double px = (omega_n - sig[0].omega_n) / config.omega_scale;
   const double py = (zeta - sig[0].zeta) / config.zeta_scale;
+  out.excursion = std::hypot(px, py);
   int best = -1, second = -1;
   for (std::size_t k = 0; k < n_paths; ++k) {
     // Eqs 11-13: (omega_n, zeta) = h + alpha (f - h); least-squares alpha, clamped to the physical range.

@@ -58,6 +58,7 @@ struct Classification {
   double alpha = 0.0;                ///< fault indicator along that path (eqs 11-13), 0 healthy .. 1 full
   double raw_alpha = 0.0;            ///< alpha along the best path even below alpha_detect (progress)
   double distance = 0.0;             ///< normalised distance from that path
+  double excursion = 0.0;            ///< normalised distance of the point from the healthy actuator
   bool ambiguous = false;  ///< a second path explains the point as well (e.g. pump wear vs half leakage)
   std::string alt_class;   ///< that second path, when ambiguous
   double alt_alpha = 0.0;  ///< its alpha
