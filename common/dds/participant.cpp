@@ -1,6 +1,7 @@
 // RAII DDS participant built from the XML QoS profiles in deploy/qos/ (DDS-Security: security.cpp).
 #include "participant.hpp"
 
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <spdlog/spdlog.h>
 #include <sys/statvfs.h>
@@ -80,6 +81,26 @@ void use_udp_without_shm_room(DomainParticipantQos& qos, const std::string& name
       name, static_cast<double>(free_bytes) / 1048576.0, static_cast<double>(needed) / 1048576.0);
 }
 
+// A participant asked to keep off shared memory keeps the profile's other transports; a profile with none
+// cannot reach anyone, which is said before anything is created.
+void without_shared_memory(DomainParticipantQos& qos, const ParticipantOptions& options,
+                           const std::string& file) {
+  auto& transports = qos.transport().user_transports;
+  if (qos.transport().use_builtin_transports) {
+    // Fast DDS's built-in pair is shared memory and UDPv4: keep the UDPv4 one.
+    qos.transport().use_builtin_transports = false;
+    transports.push_back(std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>());
+  }
+  transports.erase(std::remove_if(transports.begin(), transports.end(),
+                                  [](const auto& t) { return as_shm(t) != nullptr; }),
+                   transports.end());
+  if (transports.empty())
+    throw ConfigError(file, 0, options.profile,
+                      "participant '" + options.name +
+                          "' runs without shared memory, and the profile has no other transport");
+  spdlog::debug("{}: shared memory left out, UDP alone", options.name);
+}
+
 bool has_shm_transport(const DomainParticipantQos& qos) {
   for (const auto& t : qos.transport().user_transports)
     if (as_shm(t)) return true;
@@ -144,6 +165,7 @@ Participant::Participant(const ParticipantOptions& options) : domain_(options.do
   const char* no_precheck = std::getenv("WINDFDI_SECURITY_NO_PRECHECK");
   if (secure_ && !(no_precheck && std::string(no_precheck) == "1"))
     validate_security_files(security, options.domain);
+  if (!options.shared_memory) without_shared_memory(qos, options, file);
   if (!emulate_network(qos, options.name)) use_udp_without_shm_room(qos, options.name);
   const char* reuse = std::getenv("WINDFDI_REUSE_PARTICIPANT_ID");
   if (qos.wire_protocol().participant_id < 0 && has_shm_transport(qos) &&

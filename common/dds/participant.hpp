@@ -25,6 +25,9 @@ struct ParticipantOptions {
   std::string name = "windfdi";                 ///< participant name shown in discovery
   std::string security_dir;   ///< --security DIR: DDS-Security credentials (empty: as the XML profile says)
   std::string security_role;  ///< --security-role; empty: security_role_for(name)
+  /// false: the profile's shared-memory transport is left out and the participant speaks UDP alone (the
+  /// arbiter: a stopped process's shared-memory ports are torn down by its peers, docs/fastdds.md).
+  bool shared_memory = true;
 };
 
 /// The QoS profile file actually used for `requested` (see ParticipantOptions::qos_file).

@@ -47,7 +47,11 @@ ArbiterNode::ArbiterNode(const CommonOptions& common, const ArbiterConfig& confi
       limit_(common.max_turbines, "arbiter"),
       config_(config),
       options_(options),
-      participant_(participant_options(common, "windfdi-arbiter")),
+      participant_([&] {
+        auto p = participant_options(common, "windfdi-arbiter");
+        p.shared_memory = options.shared_memory;
+        return p;
+      }()),
       report_wakeup_([this] { return report_arrived(); }),
       faults_(participant_, common.turbines, &report_wakeup_),
       health_in_(participant_, common.turbines, nullptr),

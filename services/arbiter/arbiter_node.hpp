@@ -32,6 +32,10 @@ struct NodeOptions {
   std::string arbiter_id = "arbiter";  ///< shown in every configuration it publishes
   int strength = 100;                  ///< ownership strength: the highest live arbiter is followed
   double republish_period = 1.0;       ///< s between unchanged configurations
+  /// Off by default: the arbiter speaks UDP alone. A stopped arbiter's shared-memory ports were torn down by
+  /// its peers' port watchdog and not rebuilt in step when it went on, and it heard some services no more
+  /// (README "Redundancy"; docs/fastdds.md "A stopped process").
+  bool shared_memory = false;
 };
 
 windfdi::ControlConfiguration to_idl(const Configuration& c, const std::string& turbine_id, uint64_t revision,

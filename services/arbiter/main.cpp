@@ -18,6 +18,9 @@ int main(int argc, char** argv) {
                  "ownership strength: the live arbiter with the highest is followed")
       ->capture_default_str()
       ->check(CLI::Range(0, 1000000));
+  app.add_flag("--shared-memory", node.shared_memory,
+               "also use the QoS profile's shared-memory transport (default: UDP alone, which a stopped and "
+               "resumed arbiter keeps; see services/arbiter/README.md \"Redundancy\")");
   return run_main(app, argc, argv, common, [&] {
     arbiter::ArbiterConfig config;
     if (!config_file.empty()) config = arbiter::load_arbiter_config(YamlSection::load_file(config_file));

@@ -221,4 +221,24 @@ TEST_F(DdsFrames, SigtermExitsCleanlyAndLeavesNoSharedMemory) {
   EXPECT_EQ(count_domain_shm(domain), 0);
 }
 
+TEST_F(DdsFrames, TheArbiterKeepsOffSharedMemoryUnlessAsked) {
+  // GIVEN the arbiter with its defaults on a private domain WHEN it runs THEN it holds no shared-memory port
+  // (a stopped and resumed arbiter lost its ports to its peers' watchdog; services/arbiter/README.md)
+  const std::string config = std::string(WINDFDI_SOURCE_DEPLOY_DIR) + "/config/arbiter.yaml";
+  {
+    ChildProcess arbiter({bin("windfdi-arbiter"), "--config", config}, dds_env(domain), "arbiter");
+    std::this_thread::sleep_for(std::chrono::seconds(2));
+    ASSERT_TRUE(arbiter.running()) << arbiter.stderr_text();
+    EXPECT_EQ(count_domain_shm(domain), 0) << arbiter.stderr_text();
+    EXPECT_EQ(arbiter.stop(SIGTERM, std::chrono::seconds(10)), 0) << arbiter.stderr_text();
+  }
+  // AND with --shared-memory it takes the profile's shared-memory transport
+  ChildProcess arbiter({bin("windfdi-arbiter"), "--config", config, "--shared-memory"}, dds_env(domain),
+                       "arbiter-shm");
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  ASSERT_TRUE(arbiter.running()) << arbiter.stderr_text();
+  EXPECT_GT(count_domain_shm(domain), 0) << arbiter.stderr_text();
+  EXPECT_EQ(arbiter.stop(SIGTERM, std::chrono::seconds(10)), 0) << arbiter.stderr_text();
+}
+
 }  // namespace

@@ -45,7 +45,8 @@ cleanup() {
   [ -n "${KEEP_WORK:-}" ] && echo "logs kept in $work" || rm -rf "$work"
 }
 # Starts every diagnostic service of the registry farm-wide with its deploy/config file, then the arbiter with
-# ARBITER_CONFIG; logs in $work/<name>SUFFIX.log; their PIDs go to `pids` and, by name, to `pid_of`.
+# ARBITER_CONFIG (and $ARBITER_ARGS, e.g. --shared-memory to compare the arbiter's transports); logs in
+# $work/<name>SUFFIX.log; their PIDs go to `pids` and, by name, to `pid_of`.
 declare -A pid_of=()
 start_services() {
   local arbiter_config=$1 suffix=${2:-}
@@ -54,7 +55,9 @@ start_services() {
       > "$work/$service$suffix.log" 2>&1 &
     pids+=($!); pid_of[$service]=$!
   done
-  "$bin/windfdi-arbiter" --config "$arbiter_config" --log-level warn > "$work/arbiter$suffix.log" 2>&1 &
+  # ARBITER_ARGS unquoted: one word per option
+  "$bin/windfdi-arbiter" --config "$arbiter_config" --log-level warn ${ARBITER_ARGS:-} \
+    > "$work/arbiter$suffix.log" 2>&1 &
   pids+=($!); pid_of[arbiter]=$!
 }
 trap cleanup EXIT
