@@ -54,6 +54,13 @@ std::shared_ptr<eprosima::fastdds::rtps::SharedMemTransportDescriptor> as_shm(
   return std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(t);
 }
 
+void drop_shm_transports(
+    std::vector<std::shared_ptr<eprosima::fastdds::rtps::TransportDescriptorInterface>>& transports) {
+  transports.erase(std::remove_if(transports.begin(), transports.end(),
+                                  [](const auto& t) { return as_shm(t) != nullptr; }),
+                   transports.end());
+}
+
 // Shared memory a participant's SHM transport maps beside its segment: its port queues and their locks.
 constexpr uint64_t kShmPortRoom = 2u << 20;
 
@@ -70,9 +77,7 @@ void use_udp_without_shm_room(DomainParticipantQos& qos, const std::string& name
   if (statvfs("/dev/shm", &fs) != 0) return;  // no /dev/shm to ask: Fast DDS says what it finds
   const uint64_t free_bytes = static_cast<uint64_t>(fs.f_bavail) * fs.f_frsize;
   if (free_bytes >= needed) return;
-  transports.erase(std::remove_if(transports.begin(), transports.end(),
-                                  [](const auto& t) { return as_shm(t) != nullptr; }),
-                   transports.end());
+  drop_shm_transports(transports);
   spdlog::warn(
       "{}: /dev/shm has {:.1f} MB free, shared memory needs {:.1f} MB: running over UDP alone (slower "
       "between "
@@ -91,9 +96,7 @@ void without_shared_memory(DomainParticipantQos& qos, const ParticipantOptions& 
     qos.transport().use_builtin_transports = false;
     transports.push_back(std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>());
   }
-  transports.erase(std::remove_if(transports.begin(), transports.end(),
-                                  [](const auto& t) { return as_shm(t) != nullptr; }),
-                   transports.end());
+  drop_shm_transports(transports);
   if (transports.empty())
     throw ConfigError(file, 0, options.profile,
                       "participant '" + options.name +
