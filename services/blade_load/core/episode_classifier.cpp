@@ -4,7 +4,7 @@
 namespace windfdi::blade_load {
 
 void EpisodeClassifier::update(double t, bool active, bool confirmed, const std::string& cls,
-                               std::vector<Transition>& out, bool known) {
+                               std::vector<Transition>& out, bool known, bool continues) {
   // Windows refilling after lost samples read as a quiet spell: a raised step "returned" and, confirmed again
   // a revolution later, was renamed sensor_intermittent (20 samples lost every 5-20 s).
   if (active || !known) {
@@ -31,7 +31,8 @@ void EpisodeClassifier::update(double t, bool active, bool confirmed, const std:
   }
   // Returned: the quiet spell started at quiet_since_ (or evidence is back without confirmation yet).
   if (confirmed) {
-    if (raised_ != "sensor_intermittent" && t - returned_at_ <= c_.intermittent_window) {
+    const bool resumes = c_.drift_resumes && continues && raised_ == "sensor_drift" && cls == raised_;
+    if (!resumes && raised_ != "sensor_intermittent" && t - returned_at_ <= c_.intermittent_window) {
       out.push_back({raised_, false});
       raised_ = "sensor_intermittent";
       raised_at_ = t;

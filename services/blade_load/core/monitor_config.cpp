@@ -79,6 +79,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
                         "return_time",
                         "intermittent_window",
                         "clear_time",
+                        "drift_resumes",
                         "witness",
                         "witness_significance",
                         "mean_test",
@@ -192,6 +193,7 @@ MonitorConfig load_monitor_config(const YamlSection& y, const TurbineParams& tur
   e.intermittent_window = y.get_number("intermittent_window", e.intermittent_window, 1.0, 86400.0);
   // A fault must not clear before a recurrence could still make it intermittent.
   e.clear_time = y.get_number("clear_time", e.clear_time, e.intermittent_window, 86400.0);
+  e.drift_resumes = y.get<bool>("drift_resumes", e.drift_resumes);
   const std::string witness = y.get_choice("witness", "sensors", {"sensors", "confirm", "off"});
   d.witness = witness == "off" ? Witness::kOff : witness == "sensors" ? Witness::kSensors : Witness::kConfirm;
   d.witness_significance = y.get_number("witness_significance", d.witness_significance, 1e-12, 0.5);

@@ -436,7 +436,12 @@ void ResidualTests::blade_decision(int b, double t, bool outlier, bool outlier_c
   BladeState& B = blades_[b];
   const bool drift = B.drift_firing;
   // The episode's evidence: the outlier test, and for a drift (raised or not yet) the moving-window test.
-  const bool drift_counts = drift && (B.raised.empty() || B.raised == "sensor_drift");
+  // After a raised drift's return the window still holds ten revolutions of it, and its test fired again on
+  // that memory as the statistic decayed: an ended drift was renamed sensor_intermittent 14 s after its end
+  // (fault set 385). Only the outlier test, on the newest revolution, tells the fault came back.
+  const bool drift_counts =
+      drift && (B.raised.empty() ||
+                (B.raised == "sensor_drift" && !(B.episode.config().drift_resumes && B.episode.returned())));
   const bool active = outlier || drift_counts;
   // The moving-window test also reacts to a step (its window mean jumps): a step is the outlier test's to
   // classify, so the drift test raises only while the single-revolution values are still below threshold.
@@ -515,7 +520,8 @@ void ResidualTests::blade_decision(int b, double t, bool outlier, bool outlier_c
   }
   std::vector<Transition> tr;
   const double raised_at = B.episode.raised_at();
-  B.episode.update(t, active, confirmed, cls, tr, known);
+  const bool own_direction = channel >= 0 && reading_direction(channel, stat) == B.raised_direction;
+  B.episode.update(t, active, confirmed, cls, tr, known, outlier_confirmed && own_direction);
   for (const auto& x : tr) {
     FaultEvent ev;
     ev.t = t;

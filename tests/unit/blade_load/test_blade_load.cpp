@@ -1308,6 +1308,54 @@ TEST(EpisodeClassifier, RecurrenceAfterTheWindowKeepsTheClass) {
   EXPECT_EQ(k.raised(), "sensor_drift");
 }
 
+// A growing drift whose evidence dipped for one revolution (3.6 s at rated speed, over return_time) came back
+// as a ramp in its own direction: it is the drift going on. An intermittent gauge steps back instead, and an
+// abrupt fault's recurrence stays intermittent whatever its shape (fault set 385: two drifts renamed).
+TEST(EpisodeClassifier, ADriftConfirmedAgainAsItsOwnRampResumesUnderItsName) {
+  EpisodeConfig c;  // return_time 3 s, intermittent_window 120 s
+  const auto raised_drift_returned = [&](EpisodeClassifier& k, std::vector<Transition>& tr) {
+    k.update(0.0, true, true, "sensor_drift", tr);
+    for (double t = 1.0; t <= 4.6; t += 0.2) k.update(t, false, false, "sensor_drift", tr);
+    ASSERT_TRUE(k.returned());
+    tr.clear();
+  };
+  std::vector<Transition> tr;
+  // GIVEN a raised drift that returned, confirmed again as a ramp in its raised direction
+  EpisodeClassifier ramp(c);
+  raised_drift_returned(ramp, tr);
+  ramp.update(8.0, true, true, "sensor_drift", tr, true, true);
+  // THEN no event: the episode is on again under its own name, and it still needs a return to clear
+  EXPECT_TRUE(tr.empty());
+  EXPECT_EQ(ramp.raised(), "sensor_drift");
+  EXPECT_FALSE(ramp.returned());
+  // GIVEN the same evidence back as a step (or against the raised direction: continues false)
+  for (const auto& [cls, continues] :
+       {std::pair<std::string, bool>{"sensor_abrupt", true}, {"sensor_drift", false}}) {
+    EpisodeClassifier k(c);
+    raised_drift_returned(k, tr);
+    k.update(8.0, true, true, cls, tr, true, continues);
+    // THEN it is an intermittent gauge
+    ASSERT_EQ(tr.size(), 2u) << cls << " " << continues;
+    EXPECT_EQ(tr[1].fault, "sensor_intermittent");
+    tr.clear();
+  }
+  // GIVEN an abrupt fault's recurrence read as a ramp: still intermittent (only a drift resumes)
+  EpisodeClassifier abrupt(c);
+  abrupt.update(0.0, true, true, "sensor_abrupt", tr);
+  for (double t = 1.0; t <= 4.6; t += 0.2) abrupt.update(t, false, false, "sensor_abrupt", tr);
+  tr.clear();
+  abrupt.update(8.0, true, true, "sensor_drift", tr, true, true);
+  ASSERT_EQ(tr.size(), 2u);
+  EXPECT_EQ(tr[1].fault, "sensor_intermittent");
+  // AND with drift_resumes false the drift is renamed, as before
+  c.drift_resumes = false;
+  EpisodeClassifier old(c);
+  raised_drift_returned(old, tr);
+  old.update(8.0, true, true, "sensor_drift", tr, true, true);
+  ASSERT_EQ(tr.size(), 2u);
+  EXPECT_EQ(tr[1].fault, "sensor_intermittent");
+}
+
 // An hour of healthy operation per wind speed and two seeds, turbulence 10-12 % and shear varying (std 0.05).
 // 14 m/s is near rated: the collective pitch keeps reaching its lower limit and the IPC switching off sweeps
 // a blade's pitch through -1 deg, where the plant's k_M is singular (the steep-surface gate).
