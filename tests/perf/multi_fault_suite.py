@@ -343,6 +343,7 @@ def turbine_hours(scenario_file):
 
 def judge(reports):
     per_class, stops_bad, stops_all, unexpected, secondary, hours = {}, 0, 0, [], 0, 0.0
+    wrong = []  # (scenario, fault, what): every covered fault not named right first, or renamed later
     for scenario, r, th in reports:
         hours += th
         stop_times = {}
@@ -364,13 +365,18 @@ def judge(reports):
             first_ok = f["detected"] and (f["first"] == f["expected"] or
                                           (f["expected"] == "sensor_intermittent" and f["first"] == "sensor_abrupt"
                                            and f["then"] and f["then"][-1] == "sensor_intermittent"))
+            name = os.path.basename(scenario)
             if not f["detected"]:
                 c["missed"] += 1
+                wrong.append((name, f, "missed"))
             elif first_ok:
                 c["first"] += 1
                 # Named once: no other class raised in its place later (an intermittent gauge's first abrupt
                 # is its own first name)
-                c["renamed"] += any(x not in (f["expected"], f["first"]) for x in f["then"] or [])
+                renamed = any(x not in (f["expected"], f["first"]) for x in f["then"] or [])
+                c["renamed"] += renamed
+                if renamed:
+                    wrong.append((name, f, "renamed"))
                 c["delays"].append(f["delay"])
                 if f["delay"] > delay_target(f):
                     c["late"] += 1
@@ -378,15 +384,18 @@ def judge(reports):
                     c["late_full"] += 1
             elif f["then"] and f["then"][-1] == f["expected"]:
                 c["later"] += 1
+                wrong.append((name, f, "right later"))
+            else:
+                wrong.append((name, f, "wrong"))
         for x in r["extra"]:
             if x["secondary"]:
                 secondary += 1
             else:
                 unexpected.append((os.path.basename(scenario), x))
-    return per_class, stops_bad, stops_all, unexpected, secondary, hours
+    return per_class, stops_bad, stops_all, unexpected, secondary, hours, wrong
 
 
-def print_tables(per_class, stops_bad, stops_all, unexpected, secondary, hours, n_scen):
+def print_tables(per_class, stops_bad, stops_all, unexpected, secondary, hours, wrong, n_scen):
     print(f"{'CLASS':<42} {'N':>3} {'FIRST':>5} {'RENAMED':>7} {'LATER':>5} {'MISSED':>6} {'LATE':>4} {'LATE*':>5} "
           f"{'STOPPED':>7} {'MEDIAN s':>8} {'MAX s':>7}")
     covered = right = within = within_full = renamed = 0
@@ -403,6 +412,11 @@ def print_tables(per_class, stops_bad, stops_all, unexpected, secondary, hours, 
             renamed += c["renamed"]
             within += c["first"] - c["late"]
             within_full += c["first"] - c["late_full"]
+    for name, f, what in wrong:
+        named = f"first {f['first']} after {f['delay']:.1f} s" if f["detected"] else "never raised"
+        then = f", then {' '.join(f['then'])}" if f["then"] else ""
+        print(f"{what}: {name} {f['turbine']} {f['target']}:{f['type']} at {f['start']:.0f} s, expected "
+              f"{f['expected']}: {named}{then}")
     for name, x in unexpected:
         print(f"unexpected: {name} {x['turbine']} {x['component']} {x['fault']} from {x['source']} at "
               f"{x['t_detected']:.1f} s")
@@ -437,6 +451,8 @@ def main():
     r.add_argument("--mode", choices=["fast", "dds"], default="fast")
     r.add_argument("--rate", type=float, default=20.0)
     r.add_argument("--work", default="")
+    r.add_argument("--judge-only", action="store_true",
+                   help="run nothing: judge the histories an earlier run kept in --work again")
     r.add_argument("--jobs", type=int, default=0, help="scenarios at once (default: cores in fast mode, 1 in dds)")
     r.add_argument("--set", action="append", default=[], metavar="SERVICE.KEY=VALUE",
                    help="fast mode: a configuration key replaced (system_replay --set), e.g. another turbine's "
@@ -462,6 +478,8 @@ def main():
                 f.write(dump_yaml(drawn))
             print(path)
         return 0
+    if a.judge_only and not a.work:
+        ap.error("--judge-only needs the --work folder of an earlier run")
     if a.set and a.mode != "fast":
         ap.error("--set works in fast mode only (the DDS system reads deploy/config)")
     files = []
@@ -481,6 +499,13 @@ def main():
 
     def one(f):
         work = os.path.join(work_root, os.path.splitext(os.path.basename(f))[0])
+        if a.judge_only:
+            history = os.path.join(work, "history.jsonl")
+            if not os.path.exists(history):
+                print(f"multi_fault_suite: {history}: no history kept for {f} (run it first with --work)",
+                      file=sys.stderr)
+                return None
+            return report(f, history)
         shutil.rmtree(work, ignore_errors=True)
         os.makedirs(work)
         try:

@@ -113,6 +113,21 @@ std::vector<InjectedFault> read_injected(const std::string& file) {
   return out;
 }
 
+namespace {
+
+// A raise that names another fault injected later on the same component, while that one is on, is that
+// fault's report, not a name of the earlier one (a gauge's gain, then its signal lost while the gain lasted).
+bool names_a_later_fault(const std::vector<InjectedFault>& injected, const InjectedFault& inj,
+                         const std::string& fault, double td) {
+  for (const auto& later : injected)
+    if (&later != &inj && later.turbine == inj.turbine && later.component == inj.component &&
+        later.start > inj.start && later.fault == fault && td >= later.start && td <= attribution_end(later))
+      return true;
+  return false;
+}
+
+}  // namespace
+
 std::vector<ReportRow> match(const std::vector<InjectedFault>& injected,
                              const std::vector<HistoryRow>& history) {
   std::vector<ReportRow> rows;
@@ -127,6 +142,7 @@ std::vector<ReportRow> match(const std::vector<InjectedFault>& injected,
       const double td = detected_at(d);
       const std::string fault = d["fault"].get<std::string>();
       if (td < inj.start || td > attribution_end(inj) || !can_name(inj, fault)) continue;
+      if (fault != inj.fault && names_a_later_fault(injected, inj, fault, td)) continue;
       if (r.detected) {
         const std::string& last = r.reclassified.empty() ? r.detected_fault : r.reclassified.back();
         if (fault != last) r.reclassified.push_back(fault);

@@ -214,6 +214,36 @@ TEST(FaultReportTable, ShowsAReclassificationAndCountsItApart) {
       << table;
 }
 
+TEST(FaultReportTable, AReportOfALaterFaultOnTheSameGaugeIsThatFaultsNotARenaming) {
+  using namespace windfdi::farm;
+  // GIVEN a gain on blade 2's gauge at 887 s and its signal lost at 1019 s while the gain lasts (fault set
+  // 386), and on blade 1 a drift from 2067 s never raised before that gauge's signal was lost at 2221 s
+  const auto injected = injected_faults({{"WT01", "blade_moment_2", "gain", 887.0},
+                                         {"WT01", "blade_moment_2", "invalid", 1019.0},
+                                         {"WT02", "blade_moment_1", "drift", 2067.0},
+                                         {"WT02", "blade_moment_1", "invalid", 2221.0}});
+  FaultEvent gain = fault("WT01", "blade_moment_sensor_2", "sensor_abrupt", 888.9);
+  FaultEvent lost = fault("WT01", "blade_moment_sensor_2", "sensor_invalid", 1020.0);
+  FaultEvent lost_1 = fault("WT02", "blade_moment_sensor_1", "sensor_invalid", 2222.0);
+  for (FaultEvent* e : {&gain, &lost, &lost_1}) e->t_detected = e->t;
+  const std::vector<HistoryRow> history = {{888.9, "fault", "WT01", to_json(gain)},
+                                           {1020.0, "fault", "WT01", to_json(lost)},
+                                           {2222.0, "fault", "WT02", to_json(lost_1)}};
+  const auto rows = match(injected, history);
+  ASSERT_EQ(rows.size(), 4u);
+  // THEN the gain is named once, the lost signal is the second fault's own report
+  EXPECT_EQ(rows[0].detected_fault, "sensor_abrupt");
+  EXPECT_TRUE(rows[0].reclassified.empty());
+  EXPECT_EQ(rows[1].detected_fault, "sensor_invalid");
+  // AND the drift was missed, not named sensor_invalid
+  EXPECT_FALSE(rows[2].detected);
+  EXPECT_EQ(rows[3].detected_fault, "sensor_invalid");
+  // BUT the same raise with no later fault behind it is a renaming of the gain
+  const auto alone = match(injected_faults({{"WT01", "blade_moment_2", "gain", 887.0}}), history);
+  ASSERT_EQ(alone[0].reclassified.size(), 1u);
+  EXPECT_EQ(alone[0].reclassified[0], "sensor_invalid");
+}
+
 TEST(FaultReportTable, ASheddingRaisedOnIceThatStaysIsUnexpectedNotTheAccretionsLaterName) {
   using namespace windfdi::farm;
   // GIVEN ice accreting from 900 s on two rotors (it never ends) and a shedding injected on WT02 at 1500 s
