@@ -60,6 +60,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s, const TurbineParams
                         "abrupt_pace",
                         "ramp_time",
                         "shared_settle_time",
+                        "shared_settle_band",
                         "abrupt_unseen_max",
                         "unseen_from_last_healthy",
                         "shared_alpha",
@@ -155,6 +156,7 @@ PitchDiagConfig load_pitch_diag_config(const YamlSection& s, const TurbineParams
   c.abrupt_pace = s.get_number("abrupt_pace", c.abrupt_pace, 0.0, c.abrupt_time);
   c.ramp_time = s.get_number("ramp_time", c.ramp_time, c.abrupt_pace, 3600.0);
   c.shared_settle_time = s.get_number("shared_settle_time", c.shared_settle_time, 0.0, 600.0);
+  c.shared_settle_band = s.get_number("shared_settle_band", c.shared_settle_band, 0.0, 10.0);
   c.abrupt_unseen_max = s.get_number("abrupt_unseen_max", c.abrupt_unseen_max, 0.0, 3600.0);
   c.unseen_from_last_healthy = s.get<bool>("unseen_from_last_healthy", c.unseen_from_last_healthy);
   c.shared_alpha = s.get_number("shared_alpha", c.shared_alpha, 0.0, 1.0);
@@ -214,6 +216,24 @@ int BladeDiagnoser::path_of(const std::string& fault) const {
   return -1;
 }
 
+bool BladeDiagnoser::still_at_short(double alpha_short) {
+  // Called at every decision of a spell at the pump-wear point (settled_at_short_ already counts it).
+  settle_track_.emplace_back(settled_at_short_, alpha_short);
+  const double window = cfg_->shared_settle_time;
+  while (!settle_track_.empty() && settle_track_.front().first < settled_at_short_ - window - 1e-9)
+    settle_track_.pop_front();
+  if (cfg_->shared_settle_band <= 0.0) return true;
+  // The mean of the window's first second against its last second's.
+  double first = 0.0, last = 0.0;
+  int n_first = 0, n_last = 0;
+  const double start = settle_track_.front().first;
+  for (const auto& [clock, alpha] : settle_track_) {
+    if (clock <= start + 1.0) first += alpha, ++n_first;
+    if (clock >= settled_at_short_ - 1.0) last += alpha, ++n_last;
+  }
+  return std::abs(last / n_last - first / n_first) <= cfg_->shared_settle_band;
+}
+
 void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) {
   const bool decisive = id_.decisive();
   const bool by_information = !decisive && id_.decisive_by_information();
@@ -256,6 +276,7 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) 
     excited_since_healthy_ = unseen_since_healthy_ = held_since_healthy_ = 0.0;
     shared_reached_after_ = half_reached_after_ = -1.0;
     settled_at_short_ = 0.0;
+    settle_track_.clear();
     seen_healthy_ = true;
     left_healthy_ = false;
   } else {
@@ -315,6 +336,9 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) 
     const bool at_short =
         shared_reached_after_ >= 0.0 && alpha_short >= cfg_->shared_alpha - 0.1 && !past_short;
     settled_at_short_ = at_short ? settled_at_short_ + dt * id_.information_weight() : 0.0;
+    if (!at_short) settle_track_.clear();
+    const bool still = at_short && still_at_short(alpha_short);
+    const bool settled = still && settled_at_short_ >= cfg_->shared_settle_time;
     // Its pace is the second half of the way there (the healthy clock restarts on noise that looks healthy).
     const double pace = shared_reached_after_ >= 0.0 && half_reached_after_ >= 0.0
                             ? shared_reached_after_ - half_reached_after_
@@ -328,7 +352,7 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) 
     const bool fast = shared_reached_after_ <= cfg_->abrupt_time && pace <= cfg_->abrupt_pace &&
                       unseen_since_healthy_ <= cfg_->abrupt_unseen_max;
     const bool ramp = !fast && pace <= cfg_->ramp_time;
-    bool abrupt = !past_short && (fast || (ramp && settled_at_short_ >= cfg_->shared_settle_time));
+    bool abrupt = !past_short && (fast || (ramp && settled));
     // A raised shorter fault keeps its name below its signature too (past it, past_short above): how the
     // blade got there was decided when it was raised. After the arbiter's degraded mode came and went, a
     // raised pump wear re-reached its point no faster than a ramp and read as a leak at alpha 0.50 for 6 s
