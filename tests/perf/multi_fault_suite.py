@@ -345,6 +345,7 @@ def judge(reports):
     per_class, stops_bad, stops_all, unexpected, secondary, hours = {}, 0, 0, [], 0, 0.0
     wrong = []  # (scenario, fault, what): every covered fault not named right first, or renamed later
     for scenario, r, th in reports:
+        name = os.path.basename(scenario)
         hours += th
         stop_times = {}
         for s in r["stops"]:
@@ -365,7 +366,6 @@ def judge(reports):
             first_ok = f["detected"] and (f["first"] == f["expected"] or
                                           (f["expected"] == "sensor_intermittent" and f["first"] == "sensor_abrupt"
                                            and f["then"] and f["then"][-1] == "sensor_intermittent"))
-            name = os.path.basename(scenario)
             if not f["detected"]:
                 c["missed"] += 1
                 wrong.append((name, f, "missed"))
@@ -391,7 +391,7 @@ def judge(reports):
             if x["secondary"]:
                 secondary += 1
             else:
-                unexpected.append((os.path.basename(scenario), x))
+                unexpected.append((name, x))
     return per_class, stops_bad, stops_all, unexpected, secondary, hours, wrong
 
 

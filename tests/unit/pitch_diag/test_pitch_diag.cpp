@@ -386,9 +386,10 @@ TEST(PitchDiagnoser, ARampIsNamedByWhereItGoesPumpWearOver30sAndALeakOver30s) {
 
 TEST(PitchDiagnoser, ALeakMovingSlowlyThroughThePumpWearPointIsNotSettledThere) {
   // GIVEN a leak on blade 1 that reaches the pump-wear point's band at a ramp's pace (leak alpha 0.4 in 12 s)
-  // and then goes on at 0.02 a second: 11 s in the band taken as the pump-wear point (pump-wear alpha 0.7 to
-  // 1.15), more than shared_settle_time, moving 0.32 of pump-wear alpha over those 8 s (the benchmark's leak
-  // ramped in over 30 s, lagged by the estimate, was named pump_wear so). 0.2 deg noise, 4 seeds
+  // and then goes on at 0.0175 a second: about 11 s in the band taken as the pump-wear point (pump-wear alpha
+  // 0.7 to 1.15), more than shared_settle_time, moving 0.28 of pump-wear alpha over those 8 s (the
+  // benchmark's leak ramped in over 30 s, lagged by the estimate, was named pump_wear so). 0.2 deg noise, 4
+  // seeds
   const auto& h = table1("none");
   const auto& leak = table1("hydraulic_leakage");
   auto events_of = [&](const PitchDiagConfig& config, int seed) {
