@@ -23,7 +23,7 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
                         "block_time", "test_time", "reference_gap", "reference_time", "efficiency_step",
                         "efficiency_clear_ratio", "efficiency_clear_time", "efficiency_confirm_time", "min_power_share", "max_pitch_wind",
                         "min_generator_speed", "min_generator_speed_share", "max_torque", "max_generator_speed", "max_power",
-                        "sample_time", "iced_inertia_ratio", "efficiency_step_shape", "iced_step_share", "efficiency_noise_sigmas", "speed_pair_mismatch", "speed_pair_time", "inertia_ratio_floor", "context_lookback",
+                        "sample_time", "iced_inertia_ratio", "efficiency_step_shape", "iced_step_share", "step_shape_parsimony", "efficiency_noise_sigmas", "speed_pair_mismatch", "speed_pair_time", "inertia_ratio_floor", "context_lookback",
                         "max_bridged_gap", "rotor_speed_fallback", "rotor_speed_noise_sigmas", "rotor_speed_noise_time",
                         "rotor_speed_noise_min_time"});
   // clang-format on
@@ -66,6 +66,7 @@ DiagnoserConfig load_diagnoser_config(const YamlSection& s, const TurbineParams&
   e.iced_inertia_ratio = s.get_number("iced_inertia_ratio", e.iced_inertia_ratio, 1.0, 10.0);
   e.step_shape = s.get<bool>("efficiency_step_shape", e.step_shape);
   e.iced_step_share = s.get_number("iced_step_share", e.iced_step_share, 0.0, 1.0);
+  e.step_shape_parsimony = s.get<bool>("step_shape_parsimony", e.step_shape_parsimony);
   e.noise_sigmas = s.get_number("efficiency_noise_sigmas", e.noise_sigmas, 0.0, 100.0);
   c.speed_pair_mismatch = s.get_number("speed_pair_mismatch", c.speed_pair_mismatch, 0.0, 1.0);
   c.speed_pair_time = s.get_number("speed_pair_time", c.speed_pair_time, 0.1, 60.0);

@@ -50,6 +50,10 @@ struct EfficiencyConfig {
   /// accretion's Cp loss bends the blocks' efficiencies over minutes; a gear failing on a rotor that kept
   /// 2 t of ice after a shedding stepped them 5 % in 40 s and held, and was withheld for its inertia alone.
   double iced_step_share = 0.6;
+  /// The bend has one coefficient more than the step (three for each knot against two levels), so on noisy
+  /// blocks it fits better by chance: the step's misfit is held against the bend's times n^(1/n) for n
+  /// blocks (the Bayesian information criterion; 1.09 for the full 42 blocks). false: misfits as they are.
+  bool step_shape_parsimony = true;
   /// The blocks' efficiencies weigh the rotor at least this heavy: ice only adds inertia, and a fit below
   /// the clean rotor is the anemometer's error (0: the fit as it is).
   double inertia_ratio_floor = 1.0;
@@ -77,6 +81,11 @@ struct EfficiencyState {
 /// once, at a sample).
 double step_misfit(const std::vector<double>& y);
 double bend_misfit(const std::vector<double>& x, const std::vector<double>& y);
+/// Whether the step fits y(x) better than any bend: its misfit below `share` of the bend's, the bend's taken
+/// n^(1/n) times for n samples with `parsimony` (the Bayesian information criterion for its one coefficient
+/// more: three for each knot against the step's two levels).
+bool step_fits_better(const std::vector<double>& x, const std::vector<double>& y, double share,
+                      bool parsimony);
 
 class EfficiencyMonitor {
  public:

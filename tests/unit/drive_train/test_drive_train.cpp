@@ -422,6 +422,46 @@ TEST(DriveTrainDiagnoser, AFastAccretionIsNoEfficiencyLoss) {
   }
 }
 
+TEST(EfficiencyMonitor, ANoisyStepIsTakenForAStepOnceTheBendsExtraCoefficientIsWeighed) {
+  // GIVEN the test's 42 blocks 5 s apart, in 2000 draws each: the benchmark's 0.97 -> 0.92 step 30 s old (its
+  // last 6 blocks), and an accretion's Cp loss (0.97 falling 0.05 % a second from the 12th block: 7.5 t in 5
+  // minutes on the benchmark rotor), the blocks scattered by 1 % (moderate wind) or 2.5 % (strong turbulent
+  // wind: benchmark-sequence set 413, 20.7 m/s, turbulence 0.175, where the step was never raised)
+  std::mt19937_64 rng(413);
+  for (const double sd : {0.01, 0.025}) {
+    std::normal_distribution<double> scatter(0.0, sd);
+    int steps[2] = {0, 0}, ramps[2] = {0, 0};
+    for (int draw = 0; draw < 2000; ++draw) {
+      std::vector<double> x, step, ramp;
+      for (int i = 0; i < 42; ++i) {
+        x.push_back(5.0 * i);
+        step.push_back((i < 36 ? 0.97 : 0.92) + scatter(rng));
+        ramp.push_back(0.97 - 0.0005 * std::max(0.0, x.back() - 60.0) + scatter(rng));
+      }
+      for (const bool parsimony : {false, true}) {
+        steps[parsimony] += step_fits_better(x, step, 1.0, parsimony);
+        ramps[parsimony] += step_fits_better(x, ramp, 1.0, parsimony);
+      }
+    }
+    std::printf(
+        "[measured] scatter %.3f: step taken for a step %d / %d of 2000, ramp taken for a step %d / %d "
+        "(misfits as they are / the bend's coefficient weighed)\n",
+        sd, steps[0], steps[1], ramps[0], ramps[1]);
+    // THEN the step is taken for one in at least 9 draws of 10 with the bend's extra coefficient weighed, far
+    // more often than without where the blocks scatter
+    EXPECT_GE(steps[1], 1800) << sd;
+    if (sd > 0.02) {
+      EXPECT_GT(steps[1], steps[0] + 300) << "this test no longer tests";
+    }
+    // AND where they scatter by 1 % the ramp is still taken for a bend; at 2.5 % the shape alone no longer
+    // tells an accretion in half the draws (the cost: such a loss is the ice's echo to the arbiter, listed
+    // secondary while ice_detect's accretion report follows within 900 s)
+    if (sd < 0.02) {
+      EXPECT_LT(ramps[1], 100) << sd;
+    }
+  }
+}
+
 TEST(DriveTrainDiagnoser, AStepOnARotorThatKeepsItsIceIsRaisedAndMoreIceIsNot) {
   // GIVEN the benchmark rotor carrying 3000 kg of ice throughout (+8.7 % inertia: every fit above the ice
   // guard) whose drive train's efficiency steps from 0.97 to 0.92 at 300 s (judged set 260: a loss 290 s
@@ -1063,9 +1103,12 @@ TEST(EfficiencyMonitor, ADropWithinItsReferencesScatterIsNotRaisedAndOneBeyondIt
   // THEN the drop within the scatter is raised by efficiency_step alone and not with the floor ...
   EXPECT_GT(small_alone, 300.0);
   EXPECT_LT(small, 0.0);
-  // AND the drop beyond it is raised either way, and as soon
+  // AND the drop beyond it is raised either way, the floor costing at most two blocks (with the bend's extra
+  // coefficient weighed the step's shape is accepted a block sooner, 320 s, and the floor is then what waits:
+  // 330 s, as both were before)
   EXPECT_GT(large_alone, 300.0);
-  EXPECT_EQ(large, large_alone);
+  EXPECT_GT(large, 300.0);
+  EXPECT_LE(large - large_alone, 10.0 + 1e-6);
 }
 
 TEST(DriveTrainDiagnoser, AStepInCalmWindStandsFarAboveItsScatter) {
