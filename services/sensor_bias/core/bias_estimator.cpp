@@ -42,6 +42,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
                         "max_tracking_error",
                         "stuck_time",
                         "stuck_samples",
+                        "stuck_after_raise",
                         "type_evidence",
                         "type_evidence_at_deadline",
                         "type_evidence_small_sample",
@@ -102,6 +103,7 @@ BiasConfig load_bias_config(const YamlSection& s, const std::string& default_gai
   c.max_tracking_error = s.get_number("max_tracking_error", c.max_tracking_error, 0.0, 90.0);
   c.stuck_time = s.get_number("stuck_time", c.stuck_time, 0.0, 60.0);
   c.stuck_samples = static_cast<int>(s.get_number("stuck_samples", c.stuck_samples, 0.0, 100000.0));
+  c.stuck_after_raise = s.get<bool>("stuck_after_raise", c.stuck_after_raise);
   c.type_evidence = s.get_number("type_evidence", c.type_evidence, 0.0, 1e6);
   c.type_evidence_at_deadline =
       s.get_number("type_evidence_at_deadline", c.type_evidence_at_deadline, 0.0, c.type_evidence);
@@ -632,6 +634,19 @@ void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
       // a false efficiency_loss.
       const bool still_stuck = std::strcmp(raised_class_[k], "sensor_stuck") == 0 && reading_stuck(k) &&
                                last_reading_[k] == raised_reading_[k];
+      // A raised offset or gain whose reading then sticks to the last bit is a second fault of the sensor:
+      // its report is the stuck one from then on (a generator-speed gain whose reading stuck 7 s after it
+      // ended was never named stuck: its gain report stood 160 s longer; fault suite set 427, scenario 03).
+      if (cfg_.stuck_after_raise && std::strcmp(raised_class_[k], "sensor_stuck") != 0 && reading_stuck(k) &&
+          stat >= thr) {
+        event(false, t);
+        raised_class_[k] = "sensor_stuck";
+        raised_verdict_[k] = GainOrOffsetTest::Verdict::kUndecided;
+        raised_reading_[k] = last_reading_[k];
+        below_since_[k] = -1.0;
+        event(true, t);
+        continue;
+      }
       if (stat < cfg_.clear_ratio * thr && !gain_hidden && !still_stuck) {
         if (below_since_[k] < 0.0) below_since_[k] = t;
         if (t - below_since_[k] >= cfg_.clear_time - 1e-9) {

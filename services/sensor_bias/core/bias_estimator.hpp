@@ -71,6 +71,9 @@ struct BiasConfig {
   /// Samples of a reading repeated to the last bit, at the moment a channel is raised, that make the report
   /// `sensor_stuck` (the benchmark's fixed-value fault) instead of `sensor_bias`; 0: never.
   int stuck_samples = 10;
+  /// A raised offset or gain whose reading then repeats for stuck_samples (and still stands past the
+  /// threshold) is reported `sensor_stuck` from then on: the old class cleared, the stuck one raised.
+  bool stuck_after_raise = true;
   /// A channel's fault is `sensor_gain` or `sensor_bias` (offset) by how its error moves with the measured
   /// quantity since the onset (fault_type.hpp): the evidence, a likelihood ratio, must reach this for either
   /// class. The speeds' witness is the electrical power (P / (eta_g T_g)), the pitch's its reference. 0:

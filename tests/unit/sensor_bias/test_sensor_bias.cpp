@@ -708,6 +708,60 @@ TEST(ObserverMode, AStuckSpeedSensorStaysRaisedWhileItsTwinSticksToo) {
   }
 }
 
+TEST(ObserverMode, ARaisedGainWhoseReadingThenSticksIsReportedStuck) {
+  // GIVEN the generator speed with a gain of 1.062 from 150 to 337 s at 10 m/s, and its reading stuck at
+  // 144.9 rad/s from 338 s, before the gain's report could clear (fault suite set 427, scenario 03: the
+  // gain's report stood through the stuck reading and the stuck sensor was never named)
+  auto gain = plant::FaultSpec::make("WT01", "generator_speed", "gain", 150.0);
+  gain.gain = 1.062;
+  gain.end = 337.0;
+  auto stuck = plant::FaultSpec::make("WT01", "generator_speed", "stuck", 338.0).with_value(144.9);
+  stuck.end = 500.0;
+  const auto run = [&](bool stuck_after_raise) {
+    TurbineParams p;
+    plant::TurbineScenario t;
+    t.id = "WT01";
+    t.wind.mean = 10.0;
+    t.wind.turbulence_intensity = 0.1;
+    plant::TurbineSim sim(p, t, {gain, stuck}, 427, 100.0);
+    BiasConfig c = config(Mode::kObserver);
+    c.stuck_after_raise = stuck_after_raise;
+    BiasEstimator est(c, load_gain_file(c.drive_train_gain_file), load_gain_file(c.pitch_gain_file), p);
+    std::vector<FaultEvent> events;
+    for (int k = 0; k < 480 * 100; ++k) {
+      FrameSample s = sim.step();
+      s.aero_torque = kNaN;
+      s.aero_power = kNaN;
+      est.update(s, false, events);
+    }
+    return events;
+  };
+  const auto find = [](const std::vector<FaultEvent>& events, const char* fault, bool raised) {
+    for (const auto& e : events)
+      if (e.component == "generator_speed_sensor" && e.fault == fault && e.raised == raised) return &e;
+    return static_cast<const FaultEvent*>(nullptr);
+  };
+  const auto events = run(true);
+  for (const auto& e : events)
+    std::printf("[measured] %.2f s %s %s %s: %s\n", e.t, e.component.c_str(), e.fault.c_str(),
+                e.raised ? "raised" : "cleared", e.detail.c_str());
+  // THEN the gain is raised first, and once the reading sticks the gain is cleared and sensor_stuck raised
+  // within 5 s, with the value it is stuck at
+  const FaultEvent* g = find(events, "sensor_gain", true);
+  ASSERT_NE(g, nullptr);
+  EXPECT_LT(g->t, 337.0);
+  const FaultEvent* g_cleared = find(events, "sensor_gain", false);
+  const FaultEvent* s = find(events, "sensor_stuck", true);
+  ASSERT_NE(s, nullptr);
+  ASSERT_NE(g_cleared, nullptr);
+  EXPECT_GE(s->t, 338.0);
+  EXPECT_LE(s->t, 343.0);
+  EXPECT_LE(g_cleared->t, s->t);
+  EXPECT_NE(s->detail.find("stuck at 144.9"), std::string::npos) << s->detail;
+  // AND without the switch the gain's report stands and the stuck reading is never named
+  EXPECT_EQ(find(run(false), "sensor_stuck", true), nullptr) << "this test no longer tests";
+}
+
 TEST(ObserverMode, AGainFaultIsSensorGainWithItsGain) {
   // GIVEN the benchmark's gain faults (generator speed 0.9, pitch 1.2, rotor speed 1.1) and gains of other
   // size and sign, from 150 s, at winds where the quantity moves (the pitch above rated); among them pitch
