@@ -589,6 +589,16 @@ void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
       e.detail = detail(k, raised);
       events.push_back(e);
     };
+    // What the raise keeps of the channel: the class, its type verdict and gain, and the reading (a stuck
+    // report stands while the reading stays at it).
+    auto mark_raised = [&](const char* fault) {
+      raised_[k] = true;
+      raised_class_[k] = fault;
+      raised_verdict_[k] = fault_type_[k].verdict(cfg_.type_evidence);
+      raised_gain_[k] = fault_type_[k].gain();
+      raised_reading_[k] = last_reading_[k];
+      below_since_[k] = -1.0;
+    };
     if (!raised_[k]) {
       if (stat >= thr) {
         if (above_since_[k] < 0.0) {
@@ -610,12 +620,7 @@ void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
         const char* fault =
             t - above_since_[k] >= cfg_.raise_time - 1e-9 ? fault_class(k, t - above_since_[k]) : nullptr;
         if (fault) {
-          raised_[k] = true;
-          raised_class_[k] = fault;
-          raised_verdict_[k] = fault_type_[k].verdict(cfg_.type_evidence);
-          raised_gain_[k] = fault_type_[k].gain();
-          raised_reading_[k] = last_reading_[k];
-          below_since_[k] = -1.0;
+          mark_raised(fault);
           // Detected when it could be acted on: the wait for the type counts as detection delay.
           event(true, std::max(above_since_[k], t - cfg_.raise_time));
         }
@@ -632,18 +637,14 @@ void BiasEstimator::detect(double t, std::vector<FaultEvent>& events) {
       // estimate onto the stuck reading, the generator's was cleared 15 s before its end (multi-fault suite
       // seed 69), and drive_train's energy balance took those seconds of a frozen speed as healthy and raised
       // a false efficiency_loss.
-      const bool still_stuck = std::strcmp(raised_class_[k], "sensor_stuck") == 0 && reading_stuck(k) &&
-                               last_reading_[k] == raised_reading_[k];
+      const bool raised_stuck = std::strcmp(raised_class_[k], "sensor_stuck") == 0;
+      const bool still_stuck = raised_stuck && reading_stuck(k) && last_reading_[k] == raised_reading_[k];
       // A raised offset or gain whose reading then sticks to the last bit is a second fault of the sensor:
       // its report is the stuck one from then on (a generator-speed gain whose reading stuck 7 s after it
       // ended was never named stuck: its gain report stood 160 s longer; fault suite set 427, scenario 03).
-      if (cfg_.stuck_after_raise && std::strcmp(raised_class_[k], "sensor_stuck") != 0 && reading_stuck(k) &&
-          stat >= thr) {
+      if (cfg_.stuck_after_raise && !raised_stuck && reading_stuck(k) && stat >= thr) {
         event(false, t);
-        raised_class_[k] = "sensor_stuck";
-        raised_verdict_[k] = GainOrOffsetTest::Verdict::kUndecided;
-        raised_reading_[k] = last_reading_[k];
-        below_since_[k] = -1.0;
+        mark_raised("sensor_stuck");
         event(true, t);
         continue;
       }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <random>
 
 #include "bias_estimator.hpp"
@@ -437,7 +438,7 @@ std::pair<double, double> slow_fast_rms(const std::vector<double>& e, int half =
 
 PlantRun run_plant(double wind, double seconds, const std::vector<plant::FaultSpec>& faults,
                    Mode mode = Mode::kObserver, uint64_t seed = 7, double ti = 0.1, double settle = 60.0,
-                   double type_lag_ratio_max = -1.0) {
+                   double type_lag_ratio_max = -1.0, const std::function<void(BiasConfig&)>& adjust = {}) {
   TurbineParams p;
   plant::TurbineScenario t;
   t.id = "WT01";
@@ -446,6 +447,7 @@ PlantRun run_plant(double wind, double seconds, const std::vector<plant::FaultSp
   plant::TurbineSim sim(p, t, faults, seed, 100.0);
   BiasConfig c = config(mode);
   if (type_lag_ratio_max >= 0.0) c.type_lag_ratio_max = type_lag_ratio_max;
+  if (adjust) adjust(c);
   BiasEstimator est(c, load_gain_file(c.drive_train_gain_file), load_gain_file(c.pitch_gain_file), p);
   PlantRun r;
   int n = 0, nlast = 0, nw = 0;
@@ -718,23 +720,9 @@ TEST(ObserverMode, ARaisedGainWhoseReadingThenSticksIsReportedStuck) {
   auto stuck = plant::FaultSpec::make("WT01", "generator_speed", "stuck", 338.0).with_value(144.9);
   stuck.end = 500.0;
   const auto run = [&](bool stuck_after_raise) {
-    TurbineParams p;
-    plant::TurbineScenario t;
-    t.id = "WT01";
-    t.wind.mean = 10.0;
-    t.wind.turbulence_intensity = 0.1;
-    plant::TurbineSim sim(p, t, {gain, stuck}, 427, 100.0);
-    BiasConfig c = config(Mode::kObserver);
-    c.stuck_after_raise = stuck_after_raise;
-    BiasEstimator est(c, load_gain_file(c.drive_train_gain_file), load_gain_file(c.pitch_gain_file), p);
-    std::vector<FaultEvent> events;
-    for (int k = 0; k < 480 * 100; ++k) {
-      FrameSample s = sim.step();
-      s.aero_torque = kNaN;
-      s.aero_power = kNaN;
-      est.update(s, false, events);
-    }
-    return events;
+    return run_plant(10.0, 480.0, {gain, stuck}, Mode::kObserver, 427, 0.1, 60.0, -1.0,
+                     [&](BiasConfig& c) { c.stuck_after_raise = stuck_after_raise; })
+        .events;
   };
   const auto find = [](const std::vector<FaultEvent>& events, const char* fault, bool raised) {
     for (const auto& e : events)
