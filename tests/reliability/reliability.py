@@ -426,6 +426,16 @@ def rss_mb(pid):
     return None
 
 
+def cpu_s(pid):
+    """CPU seconds (user and system) the process has used, or None when it is gone."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            fields = f.read().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    except (OSError, IndexError, ValueError):
+        return None
+
+
 def run_hostile(farm, ids, huge, hold, settle, report_keys=0):
     """A hostile peer (windfdi-test-peer hostile) on the farm's unsecured domain for `hold` s; returns the report."""
     before = active_faults(farm)
@@ -719,10 +729,14 @@ def soak(a):
         if farm is None:
             return 2
         before = active_faults(farm)
+        # Samples lost while the farm started (every service makes 20 diagnosers at once, each frame history
+        # holds 80 ms of a turbine at 10x) are told apart from those lost while it ran.
+        lost_starting = {n: samples_lost(farm, n) for n in SERVICES}
         t0 = time.time()
         while farm.procs["plant"].poll() is None:
             samples.append({"wall_s": round(time.time() - t0, 1), "store_mb": store_bytes(farm) / 1e6,
-                            "rss_mb": {n: rss_mb(p.pid) for n, p in farm.procs.items()}})
+                            "rss_mb": {n: rss_mb(p.pid) for n, p in farm.procs.items()},
+                            "cpu_s": {n: cpu_s(p.pid) for n, p in farm.procs.items()}})
             print(f"  {samples[-1]['wall_s']:7.0f} s: store {samples[-1]['store_mb']:.0f} MB, "
                   + ", ".join(f"{n} {fmt(v)}" for n, v in samples[-1]["rss_mb"].items()), flush=True)
             if time.time() - t0 > 3 * a.hours * 3600 / a.rate + 600:
@@ -751,7 +765,11 @@ def soak(a):
         first = median(x["rss_mb"].get(n) for x in samples[:third])
         last = median(x["rss_mb"].get(n) for x in samples[-third:])
         peak = max((x["rss_mb"].get(n) or 0.0 for x in samples), default=0.0)
-        rows.append((n, first, last, peak))
+        # CPU over the sampled span, in % of one core (2 cores: 200 %): what to make cheaper for a faster soak.
+        used = [(x["wall_s"], x["cpu_s"][n]) for x in samples if x.get("cpu_s", {}).get(n) is not None]
+        cpu = (100.0 * (used[-1][1] - used[0][1]) / (used[-1][0] - used[0][0])
+               if len(used) > 1 and used[-1][0] > used[0][0] else None)
+        rows.append((n, first, last, peak, cpu))
         if first and last and last - first > max(SOAK_RSS_GROWTH_MB, 0.1 * first):
             problems.append(f"{n} grew from {first:.0f} to {last:.0f} MB")
     # The documented size (README, farm monitor): about 150 bytes a stored estimate, one a second of estimate
@@ -774,19 +792,20 @@ def soak(a):
     if not EXPECTED <= raised:
         problems.append("injected faults not raised: " + ", ".join(" ".join(k) for k in sorted(EXPECTED - raised)))
     # Samples the services lost (their logs' sequence gaps): a soak that does not keep up is no soak.
-    lost = {n: samples_lost(farm, n) for n in SERVICES}
+    lost = {n: samples_lost(farm, n) - lost_starting[n] for n in SERVICES}
     if any(lost.values()):
         problems.append("samples lost (the farm did not keep up): " + ", ".join(
             f"{n} {v}" for n, v in lost.items() if v))
     print(f"\nsoak: {a.turbines} turbines, {a.hours:g} h of sample time at {a.rate:g}x in {wall / 60:.0f} min "
           f"(effective {a.hours * 3600 / wall:.1f}x), {len(samples)} samples every {a.sample:g} s\n")
-    print("| process | resident MB, first third (median) | last third (median) | peak |")
-    print("|---|---|---|---|")
-    for n, first, last, peak in rows:
-        print(f"| {n} | {fmt(first)} | {fmt(last)} | {peak:.1f} |")
+    print("| process | resident MB, first third (median) | last third (median) | peak | CPU, % of one core |")
+    print("|---|---|---|---|---|")
+    for n, first, last, peak, cpu in rows:
+        print(f"| {n} | {fmt(first)} | {fmt(last)} | {peak:.1f} | {fmt(cpu)} |")
     print(f"\nstore: {store_mb:.0f} MB at the end ({estimates} estimates, {events} fault events; its retention of "
           f"{a.retention:g} h holds about {documented_mb:.0f} MB)")
-    print("samples lost by the services: " + ", ".join(f"{n} {v}" for n, v in lost.items()))
+    print("samples lost by the services while it ran: " + ", ".join(f"{n} {v}" for n, v in lost.items())
+          + "; while the farm started: " + ", ".join(f"{n} {v}" for n, v in lost_starting.items()))
     print(f"raised besides the injected faults: {', '.join(judged['new_raises']) or 'nothing'}; safe stops: "
           f"{', '.join(judged['safe_stops']) or 'none'}; injected faults kept: "
           f"{'yes' if judged['faults_kept'] else 'NO'}")
@@ -795,6 +814,7 @@ def soak(a):
     if a.json:
         with open(a.json, "w") as f:
             json.dump({"samples": samples, "rows": rows, "problems": problems, "wall_s": wall, "lost": lost,
+                       "lost_starting": lost_starting,
                        "store_mb": store_mb, "documented_mb": documented_mb, **judged}, f, indent=1)
     return 1 if a.require and problems else 0
 
