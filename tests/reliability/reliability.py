@@ -766,7 +766,7 @@ def soak(a):
         last = median(x["rss_mb"].get(n) for x in samples[-third:])
         peak = max((x["rss_mb"].get(n) or 0.0 for x in samples), default=0.0)
         # CPU over the sampled span, in % of one core (2 cores: 200 %): what to make cheaper for a faster soak.
-        used = [(x["wall_s"], x["cpu_s"][n]) for x in samples if x.get("cpu_s", {}).get(n) is not None]
+        used = [(x["wall_s"], x["cpu_s"][n]) for x in samples if x["cpu_s"].get(n) is not None]
         cpu = (100.0 * (used[-1][1] - used[0][1]) / (used[-1][0] - used[0][0])
                if len(used) > 1 and used[-1][0] > used[0][0] else None)
         rows.append((n, first, last, peak, cpu))
