@@ -234,6 +234,8 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
   // each left nothing ever raised.
   const bool long_gap = gap && !(start_ >= 0.0 && bridgeable_hole(last_sequence_, last_t_, s.sequence, s.t,
                                                                   cfg_.max_bridged_gap));
+  // s since the last sample fed: a hole's reference moved over all of it, not over one sample period.
+  const double since_last = gap && start_ >= 0.0 && s.t > last_t_ ? s.t - last_t_ : dt_;
   last_t_ = s.t;
   last_sequence_ = s.sequence;
   if (long_gap) start_ = -1.0;
@@ -272,15 +274,16 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       // fifth above the limit is a jump. The actuator then runs at its rate limit until the pitch, corrected
       // by the bias known before the jump, is back near its reference: a healthy blade tracks within 1.5 deg.
       const double rate_limit = std::min(turbine_.pitch_rate_limit, context_.pitch_rate_limit[b]);
-      if (reference_step > kOutrunRatio * rate_limit * dt_) outrun_[b] = true;
+      if (reference_step > kOutrunRatio * rate_limit * since_last) outrun_[b] = true;
       const double held_bias = pitch_init_[b] ? pitch_obs_[b].state()(2) : 0.0;
       if (std::fabs(r - (y - held_bias)) <= 0.5 * cfg_.max_tracking_error) outrun_[b] = false;
     }
-    if (!paper && cfg_.max_tracking_error > 0.0 && outrun_[b] && y != last_pitch_[b]) {
+    if (!paper && (gap || (cfg_.max_tracking_error > 0.0 && outrun_[b] && y != last_pitch_[b]))) {
       // The offset fit and the gain-or-offset record model a linear lag; a rate-limited actuator's error is
       // no lag: a derate to 5 deg/s that the controller outran near rated wind took a biased blade's offset
       // to 0 and cleared its bias (the reliability campaign). They follow the reference only. A reading
-      // repeated to the bit (a stuck sensor) is no outrun actuator.
+      // repeated to the bit (a stuck sensor) is no outrun actuator. Nor is the first sample after a hole
+      // one lag's worth of error: the reference moved through the hole.
       fit.follow(r, dt_, rate_a_);
     } else {
       fit.update(y - r, r, dt_, pitch_offset_forget_, rate_a_);
@@ -298,7 +301,14 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       repeated_[b] = y == last_pitch_[b] ? repeated_[b] + 1 : 0;
       last_pitch_[b] = y;
       const bool stuck = cfg_.stuck_time > 0.0 && repeated_[b] * dt_ >= cfg_.stuck_time;
-      if (context_.pitch_actuator_suspect[b]) {
+      if (gap) {
+        // The first sample after lost ones: the blade moved through the hole, and one observer step takes
+        // all of that motion as innovation. A soak's host starved for 2-3 s took healthy blades' biases to
+        // +-2.8-4.1 deg, where the outrun hold below then kept them for good (its release compares the pitch
+        // corrected by that bias with the reference), and cleared a real 1 deg bias. Hold, as below.
+        o.state().tail<2>() = held;
+        o.state()(0) = y - held(0);
+      } else if (context_.pitch_actuator_suspect[b]) {
         // Another service (pitch_diag) reports this blade's actuator: the observer's healthy actuator model
         // would turn the actuator's fault into a sensor bias. Hold, as below.
         o.state().tail<2>() = held;
@@ -409,7 +419,13 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       } else {
         dt_obs_.step_without(Eigen::Vector3d(y3(0), y3(1), 0.0), u, 2);
       }
-      if (!producing) dt_obs_.state().tail<4>() = held;
+      if (!producing || gap) dt_obs_.state().tail<4>() = held;
+      if (gap) {
+        // After lost samples, as the pitch above: the speeds moved through the hole; the biases are held and
+        // the speed states start from the measurements they correct.
+        dt_obs_.state()(0) = s.rotor_speed - held(0);
+        dt_obs_.state()(1) = s.generator_speed - held(1);
+      }
       out_.bias[0] = dt_obs_.state()(3);
       out_.bias[1] = dt_obs_.state()(4);
       for (int j = 0; j < 3; ++j) out_.drive_train_state[static_cast<std::size_t>(j)] = dt_obs_.state()(j);
