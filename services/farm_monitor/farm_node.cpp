@@ -171,7 +171,7 @@ void FarmNode::store_estimates(double now) {
            now);
   backlog_.add_estimates(estimate_batch_);
   estimate_batch_.clear();
-  if (now - pruned_at_ >= 60.0 && backlog_.error().empty()) {
+  if (now - pruned_at_ >= kPrunePeriod && backlog_.error().empty()) {
     pruned_at_ = now;
     try {
       store_.prune_estimates(now - 3600.0 * options_.estimate_retention);

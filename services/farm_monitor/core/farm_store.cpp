@@ -88,6 +88,7 @@ CREATE TABLE IF NOT EXISTS estimates (
   fields TEXT NOT NULL,
   UNIQUE (turbine_id, service, t));
 CREATE INDEX IF NOT EXISTS estimates_turbine ON estimates (turbine_id, service, received_at);
+CREATE INDEX IF NOT EXISTS estimates_received ON estimates (received_at);
 )sql";
 
 // The fault columns every fault query selects, in this order, starting at `first`.
@@ -195,6 +196,8 @@ void FarmStore::add_estimates(const std::vector<EstimateRecord>& batch) {
 }
 
 int64_t FarmStore::prune_estimates(double before) {
+  // By the index on received_at: without it every pruning read the whole table (a 20-turbine soak at 10x:
+  // 0.3-0.5 s of a core for each, once a minute, and the starved services lost samples).
   Statement s(db_, "DELETE FROM estimates WHERE received_at < ?");
   s.bind(1, before);
   if (s.step() != SQLITE_DONE) throw std::runtime_error(std::string("sqlite delete: ") + sqlite3_errmsg(db_));

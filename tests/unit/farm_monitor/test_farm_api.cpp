@@ -1,5 +1,6 @@
 // Unit tests of the farm monitor's HTTP API handlers (no socket): access rules, queries, errors, metrics.
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -212,6 +213,27 @@ TEST(FarmStoreEstimates, PrunedBeforeTheRetention) {
   store.add_estimates(batch);
   EXPECT_EQ(store.prune_estimates(102.0), 2);  // received at 100 and 101
   EXPECT_EQ(store.estimates("WT03", "ice_detect", 0.0, 100).size(), 3u);
+}
+
+TEST(FarmStoreEstimates, PruningFindsTheOldEstimatesByTheirIndexNotByReadingTheTable) {
+  // GIVEN a store (its schema as the farm monitor opens it)
+  const std::string path = test::temp_dir("farm_estimates_index") + "/farm.sqlite";
+  { FarmStore store(path); }
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+  // WHEN SQLite plans the pruning's delete
+  sqlite3_stmt* plan = nullptr;
+  ASSERT_EQ(sqlite3_prepare_v2(db, "EXPLAIN QUERY PLAN DELETE FROM estimates WHERE received_at < 100.0", -1,
+                               &plan, nullptr),
+            SQLITE_OK);
+  std::string details;
+  while (sqlite3_step(plan) == SQLITE_ROW)
+    details += std::string(reinterpret_cast<const char*>(sqlite3_column_text(plan, 3))) + "; ";
+  sqlite3_finalize(plan);
+  sqlite3_close(db);
+  // THEN it searches the index on received_at (a scan of a 20-turbine farm's 1 million estimates took
+  // 0.3-0.5 s of a core at each pruning, and the soak's services lost samples to it)
+  EXPECT_NE(details.find("USING INDEX estimates_received"), std::string::npos) << details;
 }
 
 TEST_F(FarmApiTest, MalformedQueriesAreRefusedWithAJsonErrorNamingTheParameter) {
