@@ -301,26 +301,24 @@ bool BiasEstimator::update(const FrameSample& s, bool gap, std::vector<FaultEven
       repeated_[b] = y == last_pitch_[b] ? repeated_[b] + 1 : 0;
       last_pitch_[b] = y;
       const bool stuck = cfg_.stuck_time > 0.0 && repeated_[b] * dt_ >= cfg_.stuck_time;
-      if (gap) {
-        // The first sample after lost ones: the blade moved through the hole, and one observer step takes
-        // all of that motion as innovation. A soak's host starved for 2-3 s took healthy blades' biases to
-        // +-2.8-4.1 deg, where the outrun hold below then kept them for good (its release compares the pitch
-        // corrected by that bias with the reference), and cleared a real 1 deg bias. Hold, as below.
+      // Three things hold the bias (and its rate) while the angle follows the measurement:
+      // - the first sample after lost ones: the blade moved through the hole, and one observer step takes all
+      //   of that motion as innovation. A soak's host starved for 2-3 s took healthy blades' biases to
+      //   +-2.8-4.1 deg, where the outrun hold then kept them for good (its release compares the pitch
+      //   corrected by that bias with the reference), and cleared a real 1 deg bias;
+      // - another service (pitch_diag) reporting this blade's actuator: the observer's healthy actuator model
+      //   would turn the actuator's fault into a sensor bias;
+      // - an outrun (rate-limited) actuator: the measured 28-31 deg lag of a safe stop's feathering ramp read
+      //   as a bias on healthy blades (end to end).
+      const bool actuator_hold = !gap && context_.pitch_actuator_suspect[b];
+      const bool tracking_hold =
+          !gap && !actuator_hold && !stuck && cfg_.max_tracking_error > 0.0 && outrun_[b];
+      if (gap || actuator_hold || tracking_hold) {
         o.state().tail<2>() = held;
         o.state()(0) = y - held(0);
-      } else if (context_.pitch_actuator_suspect[b]) {
-        // Another service (pitch_diag) reports this blade's actuator: the observer's healthy actuator model
-        // would turn the actuator's fault into a sensor bias. Hold, as below.
-        o.state().tail<2>() = held;
-        o.state()(0) = y - held(0);
-        ++actuator_holds_;
-      } else if (!stuck && cfg_.max_tracking_error > 0.0 && outrun_[b]) {
-        // Rate-limited: the measured 28-31 deg lag of a safe stop's feathering ramp read as a bias on healthy
-        // blades (end to end). Hold the bias (and its rate); the angle follows the measurement.
-        o.state().tail<2>() = held;
-        o.state()(0) = y - held(0);
-        ++tracking_holds_;
       }
+      if (actuator_hold) ++actuator_holds_;
+      if (tracking_hold) ++tracking_holds_;
       // The actuator is rate limited: so is its model's prediction (a saturated reference step is not a
       // bias).
       o.state()(1) = std::clamp(o.state()(1), -turbine_.pitch_rate_limit, turbine_.pitch_rate_limit);
