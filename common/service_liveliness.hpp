@@ -1,6 +1,7 @@
 // Which diagnostic services are alive for which turbine, from wt/health samples and writer liveliness.
 #pragma once
 
+#include <deque>
 #include <functional>
 #include <map>
 #include <set>
@@ -24,6 +25,11 @@ struct ServiceChange {
 /// is alive while one of its writers is: a service restarted by systemd has a new writer, often seen before
 /// the old one's lease runs out, and that old writer's loss must not declare the running service lost.
 ///
+/// A lost writer's turbines are remembered: when its liveliness comes back (a process thawed after a stall, a
+/// network healed) they are alive again at once, not at its next health sample. That sample is reliable, and
+/// after a stall it may wait seconds for a lost predecessor to be repaired: a thawed arbiter kept sensor_bias
+/// lost for 8 s after the service's liveliness was back.
+///
 /// "*" is the placeholder of an instance that has not seen a turbine yet, and speaks for the turbines no
 /// writer of that service has named. Once a writer names a real turbine it no longer speaks for "*" (it is
 /// narrowed, not lost): two instances sharing a farm's turbines (one per host) would otherwise each hold the
@@ -45,6 +51,9 @@ class ServiceLiveliness {
                  std::vector<ServiceChange>& changes);
   /// `writer` lost its liveliness: a loss for each (turbine, service) no other live writer speaks for.
   void on_writer_lost(const Writer& writer, std::vector<ServiceChange>& changes);
+  /// `writer` regained its liveliness: an appearance for each (turbine, service) it spoke for when it was
+  /// lost and no other live writer speaks for. Nothing for a writer never seen or not lost.
+  void on_writer_alive(const Writer& writer, std::vector<ServiceChange>& changes);
 
   /// Whether a live writer speaks for `service` on `turbine_id`: one that named it, or, for a turbine no
   /// writer has named, one of "*". A change of "*" (appearance or loss) applies to the turbines where this
@@ -59,6 +68,11 @@ class ServiceLiveliness {
   using Key = std::pair<std::string, std::string>;  // (turbine, service)
   std::map<Writer, std::set<Key>> writers_;
   std::map<Key, int> live_writers_;  // how many of writers_ speak for it; kept at 0 once named
+  // Lost writers and what they spoke for, oldest first out: a killed service's writer never comes back, so
+  // at most kLostWritersKept (every restart of every service of a large farm for a long while) are kept.
+  static constexpr std::size_t kLostWritersKept = 1024;
+  std::map<Writer, std::set<Key>> lost_writers_;
+  std::deque<Writer> lost_order_;
 };
 
 }  // namespace windfdi

@@ -141,8 +141,19 @@ class Writer : private eprosima::fastdds::dds::DataWriterListener {
     return ok;
   }
 
-  /// Asserts liveliness (MANUAL_BY_TOPIC writers): a node's loop calls it so a hung loop looks dead.
-  void assert_liveliness() { writer_->assert_liveliness(); }
+  /// Asserts liveliness (MANUAL_BY_TOPIC writers): a node's loop calls it so a hung loop looks dead. Each
+  /// assertion sends a heartbeat to every matched reader, so one within `min_interval` of the last is
+  /// skipped: a service's loop passes for every frame block, and at 10x with 20 turbines its health writer
+  /// sent about 1000 heartbeats a second to the farm monitor and each arbiter (over UDP: they leave shared
+  /// memory out), 50 for each health sample. The leases are 2-3 s. True when it asserted.
+  bool assert_liveliness(std::chrono::steady_clock::duration min_interval = std::chrono::milliseconds(100)) {
+    const auto now = std::chrono::steady_clock::now();
+    if (asserted_ && now - asserted_at_ < min_interval) return false;
+    asserted_ = true;
+    asserted_at_ = now;
+    writer_->assert_liveliness();
+    return true;
+  }
 
   int matched() const { return status_.matched.load(); }
   const EndpointStatus& status() const { return status_; }
@@ -177,6 +188,8 @@ class Writer : private eprosima::fastdds::dds::DataWriterListener {
   eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
   EndpointStatus status_;
   std::atomic<uint64_t> write_failures_{0};
+  bool asserted_ = false;  // liveliness asserted at asserted_at_ (by the node's loop only)
+  std::chrono::steady_clock::time_point asserted_at_;
 };
 
 /// Where and when a taken sample was written.

@@ -145,7 +145,9 @@ void ArbiterNode::handle_inputs(double wall) {
       deferred_losses_.emplace(c.turbine_id, c.service);
       continue;
     }
-    if (c.alive) deferred_losses_.erase({c.turbine_id, c.service});
+    if (c.alive && deferred_losses_.erase({c.turbine_id, c.service}))
+      spdlog::info("service {} for turbine {} alive again within the grace after the stall", c.service,
+                   c.turbine_id);
     if (!c.alive && diagnostic)
       spdlog::warn("service {} for turbine {} lost its liveliness", c.service, c.turbine_id);
     apply_liveliness(c.turbine_id, c.service, c.alive, wall);

@@ -6,6 +6,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 #include <thread>
 
 #include "process.hpp"
@@ -197,6 +198,40 @@ TEST_F(DdsFrames, ThePlantsBestEffortReaderHearsTheReliableBiasEstimates) {
   EXPECT_EQ(r["counts"].size(), 2u) << r.dump();
   EXPECT_GT(r["counts"]["WT01"].get<int>(), 0);
   EXPECT_GT(r["counts"]["WT03"].get<int>(), 0);
+}
+
+TEST_F(DdsFrames, ABusyLoopAssertsItsHealthLivelinessTenTimesASecondAndStaysAlive) {
+  // GIVEN a reader of wt/health following its writers' liveliness (lease 3 s), as the farm monitor does
+  const auto env = dds_env(domain);
+  ChildProcess reader({bin("windfdi-test-peer"), "health", "--timeout", "8"}, env, "health");
+  ASSERT_TRUE(wait_ready(reader, std::chrono::seconds(20))) << reader.stderr_text();
+  // WHEN a service's health writer asserts its liveliness every 0.2 ms for 4 s (a loop passing for every
+  // frame block: each assertion went out as a heartbeat to every reader)
+  ChildProcess busy({bin("windfdi-test-peer"), "busy-health", "--turbine-id", "WT01", "--hold", "4"}, env,
+                    "busy");
+  ASSERT_EQ(busy.wait(std::chrono::seconds(30)), 0) << busy.stderr_text();
+  EXPECT_EQ(reader.wait(std::chrono::seconds(30)), 0) << reader.stderr_text();
+  // THEN at most one assertion in 100 ms goes out (41 in 4 s) of the thousands of calls
+  const auto b = last_json_line(busy.stdout_text());
+  EXPECT_GE(b["calls"].get<int>(), 1000) << b.dump();
+  EXPECT_GE(b["asserted"].get<int>(), 1) << b.dump();
+  EXPECT_LE(b["asserted"].get<int>(), 41) << b.dump();
+  // AND the reader got its health sample and never saw the writer lost while it ran
+  std::istringstream lines(reader.stdout_text());
+  std::string line;
+  int health = 0, alive = 0, lost_while_running = 0;
+  while (std::getline(lines, line)) {
+    const auto j = nlohmann::json::parse(line);
+    if (j.contains("service")) ++health;
+    if (!j.contains("liveliness")) continue;
+    if (j["liveliness"].get<bool>())
+      ++alive;
+    else if (j["t"].get<double>() < b["end"].get<double>())
+      ++lost_while_running;
+  }
+  EXPECT_EQ(health, 1) << reader.stdout_text();
+  EXPECT_GE(alive, 1) << reader.stdout_text();
+  EXPECT_EQ(lost_while_running, 0) << reader.stdout_text();
 }
 
 TEST_F(DdsFrames, ListenerGivesUpWithoutPublisherAndSaysSo) {

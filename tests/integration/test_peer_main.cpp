@@ -218,6 +218,8 @@ int health(const CommonOptions& common, double timeout) {
     wakeup.wait_for(std::chrono::milliseconds(100));
     got.clear();
     reader.take(got);
+    for (const auto& e : reader.take_liveliness_events())
+      std::cout << nlohmann::json{{"liveliness", e.alive}, {"t", wall_time()}}.dump() << std::endl;
     for (const auto& h : got)
       std::cout << nlohmann::json{{"turbine_id", h.turbine_id()},
                                   {"service", h.service()},
@@ -230,6 +232,32 @@ int health(const CommonOptions& common, double timeout) {
                        .dump()
                 << std::endl;
   }
+  return 0;
+}
+
+// A service's health writer on a busy loop: one health sample for `turbine`, then liveliness asserted every
+// 0.2 ms for `hold` s (a loop passing for every frame block of a large farm); prints the calls, the
+// assertions that went out and when it stopped.
+int busy_health(const CommonOptions& common, const std::string& turbine, double hold) {
+  bus::Participant participant(participant_options(common, "windfdi-test-peer-busy-health"));
+  bus::Writer<windfdi::ServiceHealth> writer(participant);
+  windfdi::ServiceHealth h;
+  h.turbine_id(turbine);
+  h.service("blade_load");
+  h.state(windfdi::SERVICE_OK);
+  std::cout << "{\"ready\":true}" << std::endl;
+  writer.wait_for_readers(1, std::chrono::seconds(10));
+  h.t(wall_time());
+  writer.write(h);
+  uint64_t calls = 0, asserted = 0;
+  const double start = wall_time();
+  while (!shutdown_requested() && wall_time() - start < hold) {
+    ++calls;
+    if (writer.assert_liveliness()) ++asserted;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  std::cout << nlohmann::json{{"calls", calls}, {"asserted", asserted}, {"end", wall_time()}}.dump()
+            << std::endl;
   return 0;
 }
 
@@ -609,17 +637,18 @@ int main(int argc, char** argv) {
   double rate = 100.0, timeout = 30.0;
   uint64_t expect = 0;
   app.add_option("mode", mode,
-                 "publish, listen, fault, configs, health, control, flood, churn, instances, count, newest "
-                 "or hostile")
-      ->check(CLI::IsMember({"publish", "listen", "fault", "configs", "health", "control", "flood", "churn",
-                             "instances", "count", "newest", "hostile"}));
+                 "publish, listen, fault, configs, health, busy-health, control, flood, churn, instances, "
+                 "count, newest or hostile")
+      ->check(CLI::IsMember({"publish", "listen", "fault", "configs", "health", "busy-health", "control",
+                             "flood", "churn", "instances", "count", "newest", "hostile"}));
   std::string turbine = "WT01", source = "pitch_diag";
   std::vector<std::string> script;
   double hold = 30.0;
-  app.add_option("--turbine-id", turbine, "fault mode: turbine of the reports; churn mode: the filter");
+  app.add_option("--turbine-id", turbine,
+                 "fault mode: turbine of the reports; churn mode: the filter; busy-health: its turbine");
   app.add_option("--source", source, "fault mode: service name to report as; control mode: arbiter id");
   app.add_option("--script", script, "fault mode: AT:component:class:severity:raised|cleared (repeatable)");
-  app.add_option("--hold", hold, "fault, control, flood modes: seconds to stay alive");
+  app.add_option("--hold", hold, "fault, control, flood, busy-health modes: seconds to stay alive");
   app.add_option("--ids", ids, "turbine ids to publish")->delimiter(',');
   app.add_option("--blocks", blocks, "blocks per turbine");
   app.add_option("--block", block_size, "samples per block (1..32)")->check(CLI::Range(1, 32));
@@ -646,6 +675,7 @@ int main(int argc, char** argv) {
     if (mode == "fault") return fault(common, turbine, source, script, hold);
     if (mode == "configs") return configs(common, timeout);
     if (mode == "health") return health(common, timeout);
+    if (mode == "busy-health") return busy_health(common, turbine, hold);
     if (mode == "control") return publish_control(common, turbine, source, hold);
     if (mode == "flood") return flood(common, ids, hold);
     if (mode == "churn") return churn(common, turbine, cycles);

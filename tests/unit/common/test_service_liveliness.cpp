@@ -114,6 +114,83 @@ TEST(ServiceLiveliness, ARestartSeenBeforeTheOldWritersLeaseRunsOutIsNoLoss) {
   EXPECT_EQ(text(changes), "WT01/pitch_diag alive; ");
 }
 
+TEST(ServiceLiveliness, AWriterWhoseLivelinessReturnsSpeaksAgainForWhatItSpokeFor) {
+  // GIVEN sensor_bias's writer serving WT01 and WT02, and pitch_diag's serving WT01
+  ServiceLiveliness book;
+  std::vector<ServiceChange> changes;
+  book.on_health(writer(1), "WT01", "sensor_bias", changes);
+  book.on_health(writer(1), "WT02", "sensor_bias", changes);
+  book.on_health(writer(2), "WT01", "pitch_diag", changes);
+  // WHEN the arbiter stood still past sensor_bias's lease and its liveliness comes back before its next
+  // health sample gets through (a thawed arbiter waited 8 s for it)
+  changes.clear();
+  book.on_writer_lost(writer(1), changes);
+  EXPECT_EQ(text(changes), "WT01/sensor_bias lost; WT02/sensor_bias lost; ");
+  changes.clear();
+  book.on_writer_alive(writer(1), changes);
+  // THEN both its turbines are alive again at once, and pitch_diag was never touched
+  EXPECT_EQ(text(changes), "WT01/sensor_bias alive; WT02/sensor_bias alive; ");
+  EXPECT_TRUE(book.alive("WT02", "sensor_bias"));
+  // AND its health samples then change nothing, nor does a second "alive"
+  changes.clear();
+  book.on_health(writer(1), "WT01", "sensor_bias", changes);
+  book.on_writer_alive(writer(1), changes);
+  EXPECT_TRUE(changes.empty()) << text(changes);
+  // AND a writer never seen, or alive all along, revives nothing
+  book.on_writer_alive(writer(3), changes);
+  book.on_writer_alive(writer(2), changes);
+  EXPECT_TRUE(changes.empty()) << text(changes);
+  // AND a health sample after a loss revives every turbine of the writer, not only the one it names
+  book.on_writer_lost(writer(1), changes);
+  changes.clear();
+  book.on_health(writer(1), "WT01", "sensor_bias", changes);
+  EXPECT_EQ(text(changes), "WT01/sensor_bias alive; WT02/sensor_bias alive; ");
+  // AND a revived writer is lost again with both its turbines
+  changes.clear();
+  book.on_writer_lost(writer(1), changes);
+  EXPECT_EQ(text(changes), "WT01/sensor_bias lost; WT02/sensor_bias lost; ");
+}
+
+TEST(ServiceLiveliness, ALostWriterRevivedWhileAnotherSpeaksForItsTurbineIsNoNewAppearance) {
+  // GIVEN pitch_diag restarted: the old writer lost, the new one serving WT01
+  ServiceLiveliness book;
+  std::vector<ServiceChange> changes;
+  book.on_health(writer(1), "WT01", "pitch_diag", changes);
+  book.on_writer_lost(writer(1), changes);
+  book.on_health(writer(2), "WT01", "pitch_diag", changes);
+  changes.clear();
+  // WHEN the old writer's liveliness comes back (a frozen old process thawed) THEN WT01 stays alive, once
+  book.on_writer_alive(writer(1), changes);
+  EXPECT_TRUE(changes.empty()) << text(changes);
+  // AND WT01 is lost only when both writers are
+  book.on_writer_lost(writer(2), changes);
+  EXPECT_TRUE(changes.empty()) << text(changes);
+  book.on_writer_lost(writer(1), changes);
+  EXPECT_EQ(text(changes), "WT01/pitch_diag lost; ");
+}
+
+TEST(ServiceLiveliness, LostWritersAreForgottenOldestFirstPastTheirBound) {
+  // GIVEN 1100 restarts of ice_detect, each writer lost after naming WT01 (a writer id in two bytes)
+  ServiceLiveliness book;
+  std::vector<ServiceChange> changes;
+  const auto nth = [](int n) {
+    ServiceLiveliness::Writer w;
+    w.value[0] = static_cast<unsigned char>(n & 0xff);
+    w.value[1] = static_cast<unsigned char>(n >> 8);
+    return w;
+  };
+  for (int n = 0; n < 1100; ++n) {
+    book.on_health(nth(n), "WT01", "ice_detect", changes);
+    book.on_writer_lost(nth(n), changes);
+  }
+  // WHEN the first and the last come back THEN the first was forgotten (no change), the last was not
+  changes.clear();
+  book.on_writer_alive(nth(0), changes);
+  EXPECT_TRUE(changes.empty()) << text(changes);
+  book.on_writer_alive(nth(1099), changes);
+  EXPECT_EQ(text(changes), "WT01/ice_detect alive; ");
+}
+
 TEST(ServiceLiveliness, TwoServicesOrTwoTurbinesOfOneWriterAreKeptApart) {
   ServiceLiveliness book;
   std::vector<ServiceChange> changes;
