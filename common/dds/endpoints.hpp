@@ -141,6 +141,17 @@ class Writer : private eprosima::fastdds::dds::DataWriterListener {
     return ok;
   }
 
+  /// Unregisters the instance of `key` (its key fields are what count) and, once every reader has
+  /// acknowledged that, Fast DDS drops the instance's samples from the history. An instance nobody writes
+  /// again must go: a reliable keep-last writer's periodic heartbeat carries a GAP for every sequence
+  /// number between its oldest and its newest sample that it no longer holds, and every reader walks that
+  /// range number by number. False when the instance was never written.
+  bool unregister(const T& key) {
+    return writer_->unregister_instance(const_cast<T*>(&key),
+                                        eprosima::fastrtps::rtps::c_InstanceHandle_Unknown) ==
+           eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+  }
+
   /// Asserts liveliness (MANUAL_BY_TOPIC writers): a node's loop calls it so a hung loop looks dead. Each
   /// assertion sends a heartbeat to every matched reader, so one within `min_interval` of the last is
   /// skipped: a service's loop passes for every frame block, and at 10x with 20 turbines its health writer

@@ -234,6 +234,36 @@ TEST_F(DdsFrames, ABusyLoopAssertsItsHealthLivelinessTenTimesASecondAndStaysAliv
   EXPECT_EQ(lost_while_running, 0) << reader.stdout_text();
 }
 
+TEST_F(DdsFrames, AServicesPlaceholderHealthLeavesTheHistoryOnceItNamesATurbine) {
+  // GIVEN a farm-wide service's health writer heard by a reader from its start: "*" (no turbine seen yet)
+  const auto env = dds_env(domain);
+  ChildProcess early({bin("windfdi-test-peer"), "health", "--timeout", "6"}, env, "early");
+  ASSERT_TRUE(wait_ready(early, std::chrono::seconds(20))) << early.stderr_text();
+  ChildProcess service({bin("windfdi-test-peer"), "health-reporter", "--turbine-id", "WT07", "--hold", "14"},
+                       env, "service");
+  ASSERT_TRUE(wait_ready(service, std::chrono::seconds(20))) << service.stderr_text();
+  // WHEN it names its first turbine (2 s later) and a reader joins after that (transient local: it gets
+  // what the writer's history holds)
+  EXPECT_EQ(early.wait(std::chrono::seconds(30)), 0) << early.stderr_text();
+  ChildProcess late({bin("windfdi-test-peer"), "health", "--timeout", "3"}, env, "late");
+  EXPECT_EQ(late.wait(std::chrono::seconds(30)), 0) << late.stderr_text();
+  EXPECT_EQ(service.stop(SIGTERM), 0) << service.stderr_text();
+  const auto turbines = [](const std::string& out) {
+    std::set<std::string> ids;
+    std::istringstream lines(out);
+    std::string line;
+    while (std::getline(lines, line)) {
+      const auto j = nlohmann::json::parse(line);
+      if (j.contains("turbine_id")) ids.insert(j["turbine_id"].get<std::string>());
+    }
+    return ids;
+  };
+  // THEN the first reader heard "*" and WT07, and the late one only WT07: the "*" sample is no longer kept
+  // (kept, it stayed the writer's oldest sample, and every heartbeat carried a GAP over all reports since)
+  EXPECT_EQ(turbines(early.stdout_text()), (std::set<std::string>{"*", "WT07"})) << early.stdout_text();
+  EXPECT_EQ(turbines(late.stdout_text()), (std::set<std::string>{"WT07"})) << late.stdout_text();
+}
+
 TEST_F(DdsFrames, ListenerGivesUpWithoutPublisherAndSaysSo) {
   // GIVEN a reader expecting samples WHEN nobody publishes THEN it exits 1 after its timeout, not hangs
   ChildProcess lone({bin("windfdi-test-peer"), "listen", "--expect", "10", "--timeout", "2"}, dds_env(domain),

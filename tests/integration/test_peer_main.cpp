@@ -261,6 +261,23 @@ int busy_health(const CommonOptions& common, const std::string& turbine, double 
   return 0;
 }
 
+// A farm-wide service's health (HealthReporter, no --turbine): "*" while it has seen no turbine, then
+// `turbine` once the first reader has matched; reports every second for `hold` s.
+int health_reporter(const CommonOptions& common, const std::string& turbine, double hold) {
+  bus::Participant participant(participant_options(common, "windfdi-test-peer-health-reporter"));
+  HealthReporter health(participant, "ice_detect", {});
+  std::cout << "{\"ready\":true}" << std::endl;
+  const double start = wall_time();
+  health.tick(start, true);
+  std::this_thread::sleep_for(std::chrono::seconds(2));  // the first reader takes "*"
+  health.count_in(turbine);
+  while (!shutdown_requested() && wall_time() - start < hold) {
+    health.tick(wall_time());
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return 0;
+}
+
 // Publishes a safe-stop ControlConfiguration for one turbine as `arbiter_id` with a high ownership strength,
 // every 0.5 s for `hold` s (the security tests run it with roles that may or may not publish configurations).
 int publish_control(const CommonOptions& common, const std::string& turbine, const std::string& arbiter_id,
@@ -636,19 +653,25 @@ int main(int argc, char** argv) {
   int blocks = 100, block_size = 10, readers = 1;
   double rate = 100.0, timeout = 30.0;
   uint64_t expect = 0;
-  app.add_option("mode", mode,
-                 "publish, listen, fault, configs, health, busy-health, control, flood, churn, instances, "
-                 "count, newest or hostile")
-      ->check(CLI::IsMember({"publish", "listen", "fault", "configs", "health", "busy-health", "control",
-                             "flood", "churn", "instances", "count", "newest", "hostile"}));
+  app.add_option(
+         "mode", mode,
+         "publish, listen, fault, configs, health, busy-health, health-reporter, control, flood, churn, "
+         "instances, "
+         "count, newest or hostile")
+      ->check(
+          CLI::IsMember({"publish", "listen", "fault", "configs", "health", "busy-health", "health-reporter",
+                         "control", "flood", "churn", "instances", "count", "newest", "hostile"}));
   std::string turbine = "WT01", source = "pitch_diag";
   std::vector<std::string> script;
   double hold = 30.0;
-  app.add_option("--turbine-id", turbine,
-                 "fault mode: turbine of the reports; churn mode: the filter; busy-health: its turbine");
+  app.add_option(
+      "--turbine-id", turbine,
+      "fault mode: turbine of the reports; churn mode: the filter; busy-health, health-reporter: its "
+      "turbine");
   app.add_option("--source", source, "fault mode: service name to report as; control mode: arbiter id");
   app.add_option("--script", script, "fault mode: AT:component:class:severity:raised|cleared (repeatable)");
-  app.add_option("--hold", hold, "fault, control, flood, busy-health modes: seconds to stay alive");
+  app.add_option("--hold", hold,
+                 "fault, control, flood, busy-health, health-reporter modes: seconds to stay alive");
   app.add_option("--ids", ids, "turbine ids to publish")->delimiter(',');
   app.add_option("--blocks", blocks, "blocks per turbine");
   app.add_option("--block", block_size, "samples per block (1..32)")->check(CLI::Range(1, 32));
@@ -676,6 +699,7 @@ int main(int argc, char** argv) {
     if (mode == "configs") return configs(common, timeout);
     if (mode == "health") return health(common, timeout);
     if (mode == "busy-health") return busy_health(common, turbine, hold);
+    if (mode == "health-reporter") return health_reporter(common, turbine, hold);
     if (mode == "control") return publish_control(common, turbine, source, hold);
     if (mode == "flood") return flood(common, ids, hold);
     if (mode == "churn") return churn(common, turbine, cycles);
