@@ -19,6 +19,15 @@ std::string text(const std::vector<ServiceChange>& changes) {
   return s;
 }
 
+// sensor_bias's writer (1) serving WT01 and WT02, and `other`'s writer (2) serving WT01; changes cleared.
+void serve_two_turbines(ServiceLiveliness& book, std::vector<ServiceChange>& changes,
+                        const std::string& other) {
+  book.on_health(writer(1), "WT01", "sensor_bias", changes);
+  book.on_health(writer(1), "WT02", "sensor_bias", changes);
+  book.on_health(writer(2), "WT01", other, changes);
+  changes.clear();
+}
+
 TEST(ServiceLiveliness, AServiceAppearsOnceAndIsLostWithItsWriter) {
   ServiceLiveliness book;
   std::vector<ServiceChange> changes;
@@ -118,12 +127,9 @@ TEST(ServiceLiveliness, AWriterWhoseLivelinessReturnsSpeaksAgainForWhatItSpokeFo
   // GIVEN sensor_bias's writer serving WT01 and WT02, and pitch_diag's serving WT01
   ServiceLiveliness book;
   std::vector<ServiceChange> changes;
-  book.on_health(writer(1), "WT01", "sensor_bias", changes);
-  book.on_health(writer(1), "WT02", "sensor_bias", changes);
-  book.on_health(writer(2), "WT01", "pitch_diag", changes);
+  serve_two_turbines(book, changes, "pitch_diag");
   // WHEN the arbiter stood still past sensor_bias's lease and its liveliness comes back before its next
   // health sample gets through (a thawed arbiter waited 8 s for it)
-  changes.clear();
   book.on_writer_lost(writer(1), changes);
   EXPECT_EQ(text(changes), "WT01/sensor_bias lost; WT02/sensor_bias lost; ");
   changes.clear();
@@ -195,10 +201,7 @@ TEST(ServiceLiveliness, TwoServicesOrTwoTurbinesOfOneWriterAreKeptApart) {
   ServiceLiveliness book;
   std::vector<ServiceChange> changes;
   // GIVEN one writer for sensor_bias on WT01 and WT02, and another service's writer on WT01
-  book.on_health(writer(1), "WT01", "sensor_bias", changes);
-  book.on_health(writer(1), "WT02", "sensor_bias", changes);
-  book.on_health(writer(2), "WT01", "ice_detect", changes);
-  changes.clear();
+  serve_two_turbines(book, changes, "ice_detect");
   // WHEN the first writer is lost THEN only its two (turbine, service) pairs are
   book.on_writer_lost(writer(1), changes);
   EXPECT_EQ(text(changes), "WT01/sensor_bias lost; WT02/sensor_bias lost; ");
