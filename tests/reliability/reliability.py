@@ -33,13 +33,15 @@ farm store showed lost and how long until all were back, the faults kept, what w
 long the arbiter's configuration was not the normal one, and (over the run) reports the services logged that
 the store lacks and configurations applied out of order.
 
-  reliability.py soak [--hours 24] [--turbines 20] [--rate R] [--sample S] [--retention H] [--work DIR]
-                       [--json FILE] [--require]
+  reliability.py soak [--hours 24] [--turbines 20] [--rate R] [--block N] [--sample S] [--retention H]
+                       [--work DIR] [--json FILE] [--require]
 
 The farm (up to 20 turbines) runs --hours of sample time; the resident memory of every process and the farm
 store's size are taken every --sample s. Reported: memory in the first and last third of the run (medians) and
 its peak, the store against what its retention (the farm monitor's --estimate-retention, wall hours) holds,
-what was raised besides the injected faults, safe stops, processes that ended.
+what was raised besides the injected faults, safe stops, processes that ended. --block sets the plant's samples
+per frame (default its own, 10): at R times real time, blocks of 10 R samples send the frames as often and give
+each frame history as much wall time as real time does with blocks of 10 (the plant takes at most 32).
 
 Processes: plant, the five diagnostic services, arbiter (primary, strength 100), standby (strength 10), farm.
 Everything runs as real DDS participants on a private domain (loopback discovery), the plant in closed loop at
@@ -99,8 +101,9 @@ class Farm:
     """The processes of a small farm, each restartable; every log of every incarnation is kept."""
 
     def __init__(self, work, rate, turbines, max_turbines=None, filtered=False, network=False, duration=100000,
-                 farm_args=()):
+                 farm_args=(), block=None):
         self.work, self.rate = work, rate
+        self.block = block  # the plant's --block (samples per frame); None: the plant's default
         self.farm_args = list(farm_args)  # more options of the farm monitor
         # --max-turbines for every process (a deployment sets it to the farm's size); None: the default.
         self.max_turbines = max_turbines
@@ -156,8 +159,8 @@ class Farm:
         if name == "farm":
             return [os.path.join(BIN, "windfdi-farm"), "--db", self.db, "--table-period", "0"] + self.farm_args
         if name == "plant":
-            return [os.path.join(BIN, "windfdi-plant"), "--scenario", self.scenario, "--rate", str(self.rate),
-                    "--progress", "0"]
+            return ([os.path.join(BIN, "windfdi-plant"), "--scenario", self.scenario, "--rate", str(self.rate),
+                     "--progress", "0"] + (["--block", str(self.block)] if self.block else []))
         raise ValueError(name)
 
     def log_paths(self, name):
@@ -482,7 +485,7 @@ def start_farm(a):
     soak = a.command == "soak"
     farm = Farm(work, a.rate, a.turbines, getattr(a, "max_turbines", None), getattr(a, "filtered", False),
                 a.command == "network", round(a.hours * 3600) if soak else 100000,
-                ["--estimate-retention", str(a.retention)] if soak else [])
+                ["--estimate-retention", str(a.retention)] if soak else [], getattr(a, "block", None))
     for n in PROCESSES:
         if not os.access(farm.argv(n)[0], os.X_OK):
             print(f"reliability: {farm.argv(n)[0]} not built (deploy/scripts/setup.sh)", file=sys.stderr)
@@ -796,7 +799,8 @@ def soak(a):
     if any(lost.values()):
         problems.append("samples lost (the farm did not keep up): " + ", ".join(
             f"{n} {v}" for n, v in lost.items() if v))
-    print(f"\nsoak: {a.turbines} turbines, {a.hours:g} h of sample time at {a.rate:g}x in {wall / 60:.0f} min "
+    print(f"\nsoak: {a.turbines} turbines, {a.hours:g} h of sample time at {a.rate:g}x "
+          f"(blocks of {a.block or 10} samples) in {wall / 60:.0f} min "
           f"(effective {a.hours * 3600 / wall:.1f}x), {len(samples)} samples every {a.sample:g} s\n")
     print("| process | resident MB, first third (median) | last third (median) | peak | CPU, % of one core |")
     print("|---|---|---|---|---|")
@@ -852,6 +856,7 @@ def main():
     k.add_argument("--retention", type=float, default=0.5,
                    help="the farm monitor's --estimate-retention, hours of wall time (default 0.5: the store "
                         "reaches its plateau within the run)")
+    k.add_argument("--block", type=int, help="the plant's samples per frame, 1..32 (default: the plant's, 10)")
     for q in (p, h, n, k):
         q.add_argument("--rate", type=float, default=4.0, help="plant speed-up (default 4)")
         q.add_argument("--turbines", type=int, default=3, help="turbines of the farm (3..10; soak: 3..20)")
@@ -863,6 +868,9 @@ def main():
     a = ap.parse_args()
     if not 3 <= a.turbines <= (20 if a.command == "soak" else 10) or a.rate <= 0:
         print(f"reliability: bad --turbines/--rate: {a.turbines}, {a.rate}", file=sys.stderr)
+        return 2
+    if getattr(a, "block", None) is not None and not 1 <= a.block <= 32:
+        print(f"reliability: bad --block: {a.block} (1..32 samples per frame)", file=sys.stderr)
         return 2
     # A SIGTERM (ctest's timeout, a Ctrl-C'd script) stops the farm like the end of the run does.
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(1))
