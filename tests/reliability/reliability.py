@@ -800,7 +800,7 @@ def soak(a):
         problems.append("samples lost (the farm did not keep up): " + ", ".join(
             f"{n} {v}" for n, v in lost.items() if v))
     print(f"\nsoak: {a.turbines} turbines, {a.hours:g} h of sample time at {a.rate:g}x "
-          f"(blocks of {a.block or 10} samples) in {wall / 60:.0f} min "
+          f"(blocks of {a.block} samples) in {wall / 60:.0f} min "
           f"(effective {a.hours * 3600 / wall:.1f}x), {len(samples)} samples every {a.sample:g} s\n")
     print("| process | resident MB, first third (median) | last third (median) | peak | CPU, % of one core |")
     print("|---|---|---|---|---|")
@@ -856,7 +856,8 @@ def main():
     k.add_argument("--retention", type=float, default=0.5,
                    help="the farm monitor's --estimate-retention, hours of wall time (default 0.5: the store "
                         "reaches its plateau within the run)")
-    k.add_argument("--block", type=int, help="the plant's samples per frame, 1..32 (default: the plant's, 10)")
+    k.add_argument("--block", type=int, default=10,
+                   help="the plant's samples per frame, 1..32 (default 10, the plant's)")
     for q in (p, h, n, k):
         q.add_argument("--rate", type=float, default=4.0, help="plant speed-up (default 4)")
         q.add_argument("--turbines", type=int, default=3, help="turbines of the farm (3..10; soak: 3..20)")
