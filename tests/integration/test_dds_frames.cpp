@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 #include "process.hpp"
 #include "test_util.hpp"
@@ -262,6 +263,41 @@ TEST_F(DdsFrames, AServicesPlaceholderHealthLeavesTheHistoryOnceItNamesATurbine)
   // (kept, it stayed the writer's oldest sample, and every heartbeat carried a GAP over all reports since)
   EXPECT_EQ(turbines(early.stdout_text()), (std::set<std::string>{"*", "WT07"})) << early.stdout_text();
   EXPECT_EQ(turbines(late.stdout_text()), (std::set<std::string>{"WT07"})) << late.stdout_text();
+}
+
+TEST_F(DdsFrames, AHealthSampleLeavesItsWritersHistoryAfterItsLifespan) {
+  // GIVEN a health writer that wrote one sample 0.5 s after a reader joined, then only asserts its liveliness
+  const auto env = dds_env(domain);
+  ChildProcess early({bin("windfdi-test-peer"), "health", "--timeout", "4"}, env, "early");
+  ASSERT_TRUE(wait_ready(early, std::chrono::seconds(20))) << early.stderr_text();
+  ChildProcess writer({bin("windfdi-test-peer"), "health-once", "--turbine-id", "WT07", "--hold", "16"}, env,
+                      "writer");
+  ASSERT_TRUE(wait_ready(writer, std::chrono::seconds(20))) << writer.stderr_text();
+  EXPECT_EQ(early.wait(std::chrono::seconds(30)), 0) << early.stderr_text();
+  // WHEN a reader joins 7 s after the write (the health profile's lifespan is 5 s; every service rewrites
+  // each of its instances every second)
+  std::this_thread::sleep_for(std::chrono::seconds(4));
+  ChildProcess late({bin("windfdi-test-peer"), "health", "--timeout", "3"}, env, "late");
+  EXPECT_EQ(late.wait(std::chrono::seconds(30)), 0) << late.stderr_text();
+  EXPECT_EQ(writer.stop(SIGTERM), 0) << writer.stderr_text();
+  const auto heard = [](const std::string& out) {
+    int samples = 0;
+    bool alive = false;
+    std::istringstream lines(out);
+    std::string line;
+    while (std::getline(lines, line)) {
+      const auto j = nlohmann::json::parse(line);
+      samples += j.contains("turbine_id");
+      alive = alive || (j.contains("liveliness") && j["liveliness"].get<bool>());
+    }
+    return std::make_pair(samples, alive);
+  };
+  // THEN the first reader got the sample and the late one none, though it hears the writer alive: a sample
+  // never rewritten does not stay the writer's oldest. Kept (a Fast DDS 2.9 writer whose participant also
+  // reads wt/health kept one of its first samples for good), every heartbeat carried a GAP over every report
+  // since, which each reader walked number by number: the arbiters' CPU grew for hours in the 24-hour soak.
+  EXPECT_EQ(heard(early.stdout_text()).first, 1) << early.stdout_text();
+  EXPECT_EQ(heard(late.stdout_text()), std::make_pair(0, true)) << late.stdout_text();
 }
 
 TEST_F(DdsFrames, ListenerGivesUpWithoutPublisherAndSaysSo) {

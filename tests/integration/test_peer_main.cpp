@@ -278,6 +278,26 @@ int health_reporter(const CommonOptions& common, const std::string& turbine, dou
   return 0;
 }
 
+// A health writer that writes one sample for `turbine`, then only asserts its liveliness every 100 ms for
+// `hold` s: an instance written once (the sample a writer's history keeps at most its lifespan).
+int health_once(const CommonOptions& common, const std::string& turbine, double hold) {
+  bus::Participant participant(participant_options(common, "windfdi-test-peer-health-once"));
+  bus::Writer<windfdi::ServiceHealth> writer(participant);
+  std::cout << "{\"ready\":true}" << std::endl;
+  const double start = wall_time();
+  windfdi::ServiceHealth h;
+  h.t(start);
+  h.turbine_id(turbine);
+  h.service("ice_detect");
+  h.state(windfdi::SERVICE_OK);
+  if (!writer.write(h)) return 1;
+  while (!shutdown_requested() && wall_time() - start < hold) {
+    writer.assert_liveliness();
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return 0;
+}
+
 // Publishes a safe-stop ControlConfiguration for one turbine as `arbiter_id` with a high ownership strength,
 // every 0.5 s for `hold` s (the security tests run it with roles that may or may not publish configurations).
 int publish_control(const CommonOptions& common, const std::string& turbine, const std::string& arbiter_id,
@@ -653,25 +673,24 @@ int main(int argc, char** argv) {
   int blocks = 100, block_size = 10, readers = 1;
   double rate = 100.0, timeout = 30.0;
   uint64_t expect = 0;
-  app.add_option(
-         "mode", mode,
-         "publish, listen, fault, configs, health, busy-health, health-reporter, control, flood, churn, "
-         "instances, "
-         "count, newest or hostile")
-      ->check(
-          CLI::IsMember({"publish", "listen", "fault", "configs", "health", "busy-health", "health-reporter",
-                         "control", "flood", "churn", "instances", "count", "newest", "hostile"}));
+  app.add_option("mode", mode,
+                 "publish, listen, fault, configs, health, busy-health, health-reporter, health-once, "
+                 "control, flood, "
+                 "churn, instances, count, newest or hostile")
+      ->check(CLI::IsMember({"publish", "listen", "fault", "configs", "health", "busy-health",
+                             "health-reporter", "health-once", "control", "flood", "churn", "instances",
+                             "count", "newest", "hostile"}));
   std::string turbine = "WT01", source = "pitch_diag";
   std::vector<std::string> script;
   double hold = 30.0;
-  app.add_option(
-      "--turbine-id", turbine,
-      "fault mode: turbine of the reports; churn mode: the filter; busy-health, health-reporter: its "
-      "turbine");
+  app.add_option("--turbine-id", turbine,
+                 "fault mode: turbine of the reports; churn mode: the filter; busy-health, health-reporter, "
+                 "health-once: its turbine");
   app.add_option("--source", source, "fault mode: service name to report as; control mode: arbiter id");
   app.add_option("--script", script, "fault mode: AT:component:class:severity:raised|cleared (repeatable)");
-  app.add_option("--hold", hold,
-                 "fault, control, flood, busy-health, health-reporter modes: seconds to stay alive");
+  app.add_option(
+      "--hold", hold,
+      "fault, control, flood, busy-health, health-reporter, health-once modes: seconds to stay alive");
   app.add_option("--ids", ids, "turbine ids to publish")->delimiter(',');
   app.add_option("--blocks", blocks, "blocks per turbine");
   app.add_option("--block", block_size, "samples per block (1..32)")->check(CLI::Range(1, 32));
@@ -700,6 +719,7 @@ int main(int argc, char** argv) {
     if (mode == "health") return health(common, timeout);
     if (mode == "busy-health") return busy_health(common, turbine, hold);
     if (mode == "health-reporter") return health_reporter(common, turbine, hold);
+    if (mode == "health-once") return health_once(common, turbine, hold);
     if (mode == "control") return publish_control(common, turbine, source, hold);
     if (mode == "flood") return flood(common, ids, hold);
     if (mode == "churn") return churn(common, turbine, cycles);
