@@ -67,7 +67,9 @@ TEST_F(NetworkEmulation, AnOutageCarriesNothingAndALossyLinkStillCarriesTheStrea
   // lost too, and the volatile blocks sent before that are not the reader's): at least 90 % of every
   // turbine's samples from its first one received (a keep-last 8 history may be overwritten before a repair
   // on a slow machine; the readers see that as a sequence gap)
-  EXPECT_GE(lossy.value("participants_discovered", 0), 1) << lossy.dump();
+  // (the reader matched the publisher's writer, which needs its participant discovered: the listener's count
+  // of participant discoveries read 0 once in CI with the writer matched and all 3000 samples received)
+  EXPECT_GE(lossy.value("matched_writers", 0), 1) << lossy.dump();
   for (const char* id : {"WT01", "WT02", "WT03"}) {
     const auto& first = lossy["first"];
     ASSERT_TRUE(first.contains(id)) << id << " " << lossy.dump();
