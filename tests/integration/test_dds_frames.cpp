@@ -251,12 +251,8 @@ TEST_F(DdsFrames, AServicesPlaceholderHealthLeavesTheHistoryOnceItNamesATurbine)
   EXPECT_EQ(service.stop(SIGTERM), 0) << service.stderr_text();
   const auto turbines = [](const std::string& out) {
     std::set<std::string> ids;
-    std::istringstream lines(out);
-    std::string line;
-    while (std::getline(lines, line)) {
-      const auto j = nlohmann::json::parse(line);
+    for (const auto& j : json_lines(out))
       if (j.contains("turbine_id")) ids.insert(j["turbine_id"].get<std::string>());
-    }
     return ids;
   };
   // THEN the first reader heard "*" and WT07, and the late one only WT07: the "*" sample is no longer kept
@@ -283,10 +279,7 @@ TEST_F(DdsFrames, AHealthSampleLeavesItsWritersHistoryAfterItsLifespan) {
   const auto heard = [](const std::string& out) {
     int samples = 0;
     bool alive = false;
-    std::istringstream lines(out);
-    std::string line;
-    while (std::getline(lines, line)) {
-      const auto j = nlohmann::json::parse(line);
+    for (const auto& j : json_lines(out)) {
       samples += j.contains("turbine_id");
       alive = alive || (j.contains("liveliness") && j["liveliness"].get<bool>());
     }

@@ -43,8 +43,10 @@ def capture(seconds):
     end = time.time() + seconds
     while time.time() < end:
         try:
-            packet = sock.recv(65535)
+            packet, address = sock.recvfrom(65535)
         except socket.timeout:
+            continue
+        if address[2] == socket.PACKET_OUTGOING:  # loopback shows each packet leaving and arriving
             continue
         # Ethernet (14) + IPv4 + UDP (8) + RTPS header (20)
         if len(packet) < 62 or packet[12:14] != b"\x08\x00" or packet[23] != 17:
