@@ -117,7 +117,8 @@ int run_node(const ServiceSpec& spec, const CommonOptions& common) {
   std::map<std::string, LidarFrames> lidar;
   if (spec.wants_lidar)
     node.subscribe_lidar([&](const std::string& id, const windfdi::LidarFrame& f) {
-      if (std::isfinite(f.t())) lidar[id].add({f.t(), f.v_upper(), f.v_lower(), (f.valid_mask() & 3u) == 3u});
+      if (std::isfinite(f.t()))
+        lidar[id].add({f.t(), f.v_upper(), f.v_lower(), (f.valid_mask() & 3u) == 3u, f.sequence()});
     });
   const EstimatePublisher publish = spec.make_publisher ? spec.make_publisher(node.participant()) : nullptr;
   spdlog::info("{} running{}", spec.name, common.turbines.empty() ? " for every turbine" : "");
@@ -133,6 +134,7 @@ int run_node(const ServiceSpec& spec, const CommonOptions& common) {
     if (spec.wants_lidar) {
       const auto it = lidar.find(id);
       const LidarFrames::Frame* l = it == lidar.end() ? nullptr : it->second.at(s.t);
+      s.lidar_lost_on_the_way = it != lidar.end() && it->second.take_lost();
       if (l && l->valid) {
         s.lidar_v_upper = l->v_upper;
         s.lidar_v_lower = l->v_lower;

@@ -45,6 +45,8 @@ struct FrameSample {
   double aero_torque = kNaN;    ///< replay only: aerodynamic torque when the recording has it (N m)
   double aero_power = kNaN;     ///< replay only: aerodynamic power when the recording has it (W)
   uint32_t valid_mask = kValidAll;
+  bool lidar_lost_on_the_way =
+      false;  ///< DDS only: LIDAR frames were lost in transport since the last sample
 };
 
 /// Samples lost between two received ones of a turbine, from their sequence numbers (0 when consecutive,

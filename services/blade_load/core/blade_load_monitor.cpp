@@ -66,10 +66,9 @@ bool BladeLoadMonitor::update(const FrameSample& sample, bool gap, std::vector<F
   const bool short_gap = gap && bridgeable_hole(last_sequence_, last_t_, s.sequence, t, cfg_.max_bridged_gap);
   last_t_ = t;
   last_sequence_ = s.sequence;
-  if (gap) {
-    if (!short_gap) reset_windows();
-    validity_.restart_lidar(t, lidar_grace);
-  }
+  if (gap && !short_gap) reset_windows();
+  // LIDAR frames lost on the way leave the same hole in its history, with the samples whole.
+  if (gap || s.lidar_lost_on_the_way) validity_.restart_lidar(t, lidar_grace);
   // The LIDAR history is kept through a standstill: resuming with a stale one read as a lost LIDAR.
   if ((s.valid_mask & kValidLidar) && lidar_.add_lidar(t, s.lidar_v_upper, s.lidar_v_lower))
     validity_.restart_lidar(t, lidar_grace);

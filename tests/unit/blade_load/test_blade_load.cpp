@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <random>
+#include <utility>
 
 #include "blade_load_monitor.hpp"
 #include "suspect_inputs.hpp"
@@ -733,7 +734,8 @@ TEST(LidarLoss, FallsBackToSensorOnlyAndReportsTheLidar) {
 }
 
 // The monitor on the plant at 12 m/s (10 % turbulence) for `seconds`; `alter` changes sample k in place or
-// drops it (false), and the sample at `gap_at` s is flagged as following a gap.
+// drops it (false); the sample after a dropped one, and the one at `gap_at` s, are flagged as following a
+// gap.
 std::vector<FaultEvent> run_at_12(double seconds, double gap_at,
                                   const std::function<bool(int, FrameSample&)>& alter) {
   plant::TurbineScenario t;
@@ -743,10 +745,14 @@ std::vector<FaultEvent> run_at_12(double seconds, double gap_at,
   plant::TurbineSim sim(TurbineParams{}, t, {}, 5, 100.0);
   BladeLoadMonitor m(config(), LoadTable::load_csv(kTable));
   std::vector<FaultEvent> events;
+  bool dropped = false;
   for (int k = 0; k < static_cast<int>(seconds * 100); ++k) {
     FrameSample s = sim.step();
-    if (!alter(k, s)) continue;
-    m.update(s, k == static_cast<int>(gap_at * 100), events);
+    if (!alter(k, s)) {
+      dropped = true;
+      continue;
+    }
+    m.update(s, std::exchange(dropped, false) || k == static_cast<int>(gap_at * 100), events);
   }
   return events;
 }
@@ -780,6 +786,45 @@ TEST(LidarLoss, ARestartedPlantAClockStepOrLostSamplesAreNoLidarLoss) {
   ASSERT_NE(e, nullptr);
   EXPECT_EQ(e->fault, "sensor_invalid");
   EXPECT_LE(e->t - 310.0, 100.0 / 12.0 + 1.0 + 1.0 + 1.0);
+}
+
+TEST(LidarLoss, LidarFramesLostOnTheWayAreNoLidarLoss) {
+  // GIVEN the 24-hour soak's pattern: 2.8 s of LIDAR frames lost on the way five times in 25 s (a loaded
+  // reader dropped them from its history), the samples whole
+  const auto in_hole = [](double t) {
+    for (int i = 0; i < 5; ++i)
+      if (t >= 300.0 + 5.0 * i && t < 302.8 + 5.0 * i) return true;
+    return false;
+  };
+  const auto holes = [&](bool told) {
+    return [&, told](int, FrameSample& s) {
+      if (in_hole(s.t)) {
+        s.lidar_v_upper = s.lidar_v_lower = kNaN;
+        s.valid_mask &= ~kValidLidar;
+      }
+      // The service's merge says so at the first sample after each hole (LidarFrames::take_lost).
+      s.lidar_lost_on_the_way = told && !in_hole(s.t) && in_hole(s.t - 0.01);
+      return true;
+    };
+  };
+  const auto untold = run_at_12(360.0, -1.0, holes(false));
+  const auto told = run_at_12(360.0, -1.0, holes(true));
+  std::printf("[measured] holes not told: %s; told: %s\n", event_sequence(untold).c_str(),
+              event_sequence(told).c_str());
+  // THEN a monitor not told of the loss takes the holes for a lost LIDAR (what the soak reported)
+  ASSERT_NE(first_raised(untold, "lidar", 300.0), nullptr);
+  // AND told, it raises nothing
+  EXPECT_TRUE(told.empty()) << told.front().component << " " << told.front().fault << " at "
+                            << told.front().t;
+  // AND neither do the soak's holes in the samples themselves, 32 to 288 samples five times in 24 s (the
+  // service is told by the sequence gap)
+  const int lost[5] = {32, 288, 64, 160, 96};
+  const auto events = run_at_12(360.0, -1.0, [&](int k, FrameSample&) {
+    const int i = (k - 300 * 100) / 480, into = (k - 300 * 100) % 480;
+    return !(k >= 300 * 100 && i < 5 && into < lost[i]);
+  });
+  EXPECT_TRUE(events.empty()) << events.front().component << " " << events.front().fault << " at "
+                              << events.front().t;
 }
 
 TEST(Persistence, StateRoundTripsAtomically) {
