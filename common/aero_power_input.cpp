@@ -24,24 +24,26 @@ AeroPowerInput::AeroPowerInput(const AeroModel& aero, double wind_window, double
                                PowerModelLimits limits)
     : aero_(aero),
       limits_(limits),
-      half_(static_cast<std::size_t>(std::lround(0.5 * std::max(0.0, wind_window) / sample_time))) {}
+      half_(static_cast<std::size_t>(std::lround(0.5 * std::max(0.0, wind_window) / sample_time))),
+      ring_(2 * half_ + 1) {}
 
 bool AeroPowerInput::usable_wind(double v) const {
   return std::isfinite(v) && v >= 0.0 && v <= limits_.wind_max;
 }
 
 bool AeroPowerInput::push(const FrameSample& s, bool gap, FrameSample& out, bool& out_gap, double& power) {
-  window_.push_back(Entry{s, gap});
+  Entry& newest = at(size_++);
+  newest = Entry{s, gap};
   for (int i = 0; i < kBlades; ++i)
     if (absent_ & (kValidPitch1 << i)) {
-      window_.back().sample.pitch[static_cast<std::size_t>(i)] = absent_pitch_;
-      window_.back().sample.valid_mask |= kValidPitch1 << i;
+      newest.sample.pitch[static_cast<std::size_t>(i)] = absent_pitch_;
+      newest.sample.valid_mask |= kValidPitch1 << i;
     }
   if (usable_wind(s.wind_hub)) wind_sum_ += s.wind_hub, ++wind_count_;
   if (std::isfinite(s.rotor_speed)) speed_sum_ += s.rotor_speed, ++speed_count_;
   // The next sample out is the one half a window behind the newest (at the start, with fewer before it).
-  if (window_.size() - 1 - next_ < half_) return false;
-  const Entry& centre = window_[next_];
+  if (size_ - 1 - next_ < half_) return false;
+  const Entry& centre = at(next_);
   out = centre.sample;
   out_gap = centre.gap;
   if (speed_average_ && std::isfinite(out.rotor_speed))
@@ -54,11 +56,11 @@ bool AeroPowerInput::push(const FrameSample& s, bool gap, FrameSample& out, bool
                 : kNaN;
   }
   if (++next_ > half_) {
-    if (usable_wind(window_.front().sample.wind_hub))
-      wind_sum_ -= window_.front().sample.wind_hub, --wind_count_;
-    if (std::isfinite(window_.front().sample.rotor_speed))
-      speed_sum_ -= window_.front().sample.rotor_speed, --speed_count_;
-    window_.pop_front();
+    const FrameSample& oldest = at(0).sample;
+    if (usable_wind(oldest.wind_hub)) wind_sum_ -= oldest.wind_hub, --wind_count_;
+    if (std::isfinite(oldest.rotor_speed)) speed_sum_ -= oldest.rotor_speed, --speed_count_;
+    head_ = (head_ + 1) % ring_.size();
+    --size_;
     --next_;
   }
   return true;

@@ -3,7 +3,7 @@
 #pragma once
 
 #include <cstddef>
-#include <deque>
+#include <vector>
 
 #include "frame_sample.hpp"
 #include "turbine_params.hpp"
@@ -51,10 +51,14 @@ class AeroPowerInput {
   };
   const AeroModel& aero_;
   PowerModelLimits limits_;
-  std::size_t half_;          // samples each side of the centre
-  std::deque<Entry> window_;  // half_ samples before the next one out, it, and up to half_ after
-  std::size_t next_ = 0;      // index in window_ of the next sample out
-  double wind_sum_ = 0.0;     // over the window's finite anemometer values
+  Entry& at(std::size_t i) { return ring_[(head_ + i) % ring_.size()]; }
+  std::size_t half_;  // samples each side of the centre
+  // The window: half_ samples before the next one out, it, and up to half_ after, at most 2 half_ + 1 in a
+  // ring from head_ (a deque of these 200-byte entries allocated a block every other sample).
+  std::vector<Entry> ring_;
+  std::size_t head_ = 0, size_ = 0;
+  std::size_t next_ = 0;   // index in the window of the next sample out
+  double wind_sum_ = 0.0;  // over the window's finite anemometer values
   std::size_t wind_count_ = 0;
   double speed_sum_ = 0.0;  // over the window's finite rotor speeds
   std::size_t speed_count_ = 0;

@@ -19,8 +19,10 @@ namespace windfdi {
 namespace {
 
 // Feeds one sample to a turbine's diagnoser and hands on what it produced, the same offline and on DDS.
+// The callables are template parameters: as std::function, one was allocated per sample.
+template <typename OnEvent, typename OnEstimate>
 bool feed(const ServiceSpec& spec, const std::string& id, TurbineDiagnoser& d, const FrameSample& s, bool gap,
-          const std::function<void(FaultEvent&)>& on_event, const std::function<void()>& on_estimate) {
+          const OnEvent& on_event, const OnEstimate& on_estimate) {
   thread_local std::vector<FaultEvent> events;
   events.clear();
   const bool ok = d.update(s, gap, events);
@@ -113,7 +115,6 @@ struct InputPresence {
 
 int run_node(const ServiceSpec& spec, const CommonOptions& common) {
   DiagnosticNode node(common, spec.name);
-  std::map<std::string, std::unique_ptr<TurbineDiagnoser>> turbines;
   std::map<std::string, LidarFrames> lidar;
   if (spec.wants_lidar)
     node.subscribe_lidar([&](const std::string& id, const windfdi::LidarFrame& f) {
@@ -122,19 +123,38 @@ int run_node(const ServiceSpec& spec, const CommonOptions& common) {
     });
   const EstimatePublisher publish = spec.make_publisher ? spec.make_publisher(node.participant()) : nullptr;
   spdlog::info("{} running{}", spec.name, common.turbines.empty() ? " for every turbine" : "");
-  std::map<std::string, InputContext> given;  // the context each diagnoser has
-  std::map<std::string, InputPresence> presence;
+  // What the loop keeps per turbine. The samples of a frame are one turbine's, so its entry is looked up
+  // when the turbine changes, not per sample (five string-keyed lookups a sample before).
+  struct Turbine {
+    std::unique_ptr<TurbineDiagnoser> diagnoser;
+    InputPresence presence;
+    InputContext given;                     // the context the diagnoser has
+    const InputContext* context = nullptr;  // the node's, for this turbine
+    LidarFrames* lidar = nullptr;           // once its first LIDAR frame came
+  };
+  std::map<std::string, Turbine> turbines;  // entries stay where they are: the pointers below hold
+  std::string current_id;
+  Turbine* current = nullptr;
   node.run([&](const std::string& id, const FrameSample& sample, bool gap) {
-    auto& d = turbines[id];
-    if (!d) {
-      d = spec.make(id);
-      spdlog::info("{}: diagnosing turbine {}", spec.name, id);
+    if (!current || id != current_id) {
+      current = &turbines[id];
+      current_id = id;
+      if (!current->diagnoser) {
+        current->diagnoser = spec.make(id);
+        current->context = &node.context(id);
+        spdlog::info("{}: diagnosing turbine {}", spec.name, id);
+      }
     }
+    Turbine& turbine = *current;
+    TurbineDiagnoser& d = *turbine.diagnoser;
     FrameSample s = sample;
     if (spec.wants_lidar) {
-      const auto it = lidar.find(id);
-      const LidarFrames::Frame* l = it == lidar.end() ? nullptr : it->second.at(s.t);
-      s.lidar_lost_on_the_way = it != lidar.end() && it->second.take_lost();
+      if (!turbine.lidar) {
+        const auto it = lidar.find(id);
+        if (it != lidar.end()) turbine.lidar = &it->second;
+      }
+      const LidarFrames::Frame* l = turbine.lidar ? turbine.lidar->at(s.t) : nullptr;
+      s.lidar_lost_on_the_way = turbine.lidar && turbine.lidar->take_lost();
       if (l && l->valid) {
         s.lidar_v_upper = l->v_upper;
         s.lidar_v_lower = l->v_lower;
@@ -145,7 +165,7 @@ int run_node(const ServiceSpec& spec, const CommonOptions& common) {
     }
     // What the turbine's frames carry is learnt from its first samples and said once. The LIDAR, a topic of
     // its own that may start later, is judged by its staleness instead.
-    InputPresence& p = presence[id];
+    InputPresence& p = turbine.presence;
     if (p.samples < kPresenceSamples) {
       p.seen |= channels_with_values(s);
       if (++p.samples == kPresenceSamples) {
@@ -155,17 +175,16 @@ int run_node(const ServiceSpec& spec, const CommonOptions& common) {
             "turbine " + id, false);
       }
     }
-    InputContext context = node.context(id);
+    InputContext context = *turbine.context;
     context.absent = p.absent;
-    auto& had = given[id];
-    if (!(had == context)) {
-      had = context;
-      d->set_context(context, s.t);
+    if (!(turbine.given == context)) {
+      turbine.given = context;
+      d.set_context(context, s.t);
     }
     return feed(
-        spec, id, *d, s, gap, [&](FaultEvent& e) { node.publish(e); },
+        spec, id, d, s, gap, [&](FaultEvent& e) { node.publish(e); },
         [&] {
-          if (publish) publish(id, *d);
+          if (publish) publish(id, d);
         });
   });
   return kExitOk;

@@ -115,13 +115,15 @@ void DiagnosticNode::run(const SampleFn& process) {
       frame_meta_ = meta[i];
       auto& tracker = sequence_[id];
       auto& clock = sample_times_[id];
+      // Counted into the health per frame (a string-keyed lookup per sample before).
+      uint64_t in = 0, rejected = 0;
       for (const auto& s : frames[i].samples()) {
+        ++in;
         // A sample without a usable time is rejected before it can count as a gap or a clock step (a peer
         // on an unsecured domain sent NaN and 1e308 times into a real turbine's stream, and blade_load
         // raised a false lidar sensor_invalid on the restarts they caused).
         if (!std::isfinite(s.t()) || std::abs(s.t()) > kMaxSampleTime) {
-          health_.count_in(id);
-          health_.count_rejected(id);
+          ++rejected;
           continue;
         }
         const uint64_t lost = tracker.lost_before(s.sequence());
@@ -136,9 +138,10 @@ void DiagnosticNode::run(const SampleFn& process) {
               "{}: sample time stepped by {:+.3f} s at sequence {} (controller clock stepped); restarting "
               "history",
               id, step, s.sequence());
-        health_.count_in(id);
-        if (!process(id, bus::to_sample(s), lost > 0 || step != 0.0)) health_.count_rejected(id);
+        if (!process(id, bus::to_sample(s), lost > 0 || step != 0.0)) ++rejected;
       }
+      if (in) health_.count_in(id, in);
+      if (rejected) health_.count_rejected(id, rejected);
       health_.set_lag(id, std::max(0.0, now - meta[i].source_time));
     }
     // Said in the health detail (the farm shows it), at most once a second while refusals go on.

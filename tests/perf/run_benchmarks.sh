@@ -7,6 +7,8 @@ for b in "$bin"/bench_*; do
   echo "== $(basename "$b")"
   "$b" --benchmark_counters_tabular=true
 done
+echo "== replay_allocations (heap allocations per sample of every service)"
+"$top/tests/perf/replay_allocations.sh" 900
 turbine2=$top/deploy/turbine/example_2MW.yaml
 turbine3=$top/deploy/turbine/example_3MW_medium_speed.yaml
 echo "== pitch_diag_plant, benchmark 4.8 MW turbine"

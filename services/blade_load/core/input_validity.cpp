@@ -26,19 +26,20 @@ std::array<bool, 3> InputValidity::moments(const FrameSample& s, std::vector<Fau
   std::array<bool, 3> ok{};
   for (int b = 0; b < 3; ++b) {
     const double m = s.blade_moment[b];
-    const std::string component = "blade_moment_sensor_" + std::to_string(b + 1);
+    // Named only for an event: a string built per sample and blade was a heap allocation on the hot path.
+    const auto component = [b] { return "blade_moment_sensor_" + std::to_string(b + 1); };
     ok[b] = std::isfinite(m) && std::fabs(m) <= c_.max_moment && (s.valid_mask & (kValidBladeMoment1 << b));
     lost[b] = false;
     if (ok[b]) {
       if (invalid_raised_[b]) {
-        events.push_back(invalid_event(t, component, false, invalid_since_[b]));
+        events.push_back(invalid_event(t, component(), false, invalid_since_[b]));
         invalid_raised_[b] = false;
       }
       invalid_since_[b] = -1.0;
     } else {
       if (invalid_since_[b] < 0) invalid_since_[b] = t;
       if (!invalid_raised_[b] && t - invalid_since_[b] >= c_.invalid_time) {
-        FaultEvent e = invalid_event(t, component, true, invalid_since_[b]);
+        FaultEvent e = invalid_event(t, component(), true, invalid_since_[b]);
         e.statistic = t - invalid_since_[b];
         e.threshold = c_.invalid_time;
         e.detail = "blade moment missing, NaN or beyond " + std::to_string(c_.max_moment) + " N m";

@@ -344,7 +344,10 @@ void Identifier::bank_step(double yf, bool settled) {
   // Every model of the bank simulated from the reference; residual variance with forgetting. Without the eq
   // 20 gate a sample that does not move the pitch adds the same residual to every model, so it changes no
   // decision; it only lets the old evidence fade, which evidence() sees.
-  Eigen::ArrayXd x = -ba1_ * bx1_ - ba2_ * bx2_ + bb1_ * u1_ + bb2_ * u2_;
+  // The next outputs in a member array (swapped in below): a fresh array here, and for the rate limit and the
+  // squared residuals, were three heap allocations per sample and blade.
+  Eigen::ArrayXd& x = bx_next_;
+  x = -ba1_ * bx1_ - ba2_ * bx2_ + bb1_ * u1_ + bb2_ * u2_;
   // The valve saturates at the commanded rate (the plant: the angle moves at the limit). Without it a healthy
   // blade derated to 5 deg/s in turbulence read as hydraulic_leakage and stopped the turbine (multi-fault
   // suite), and a raised fault on a derated blade never saw the healthy model fit again to clear.
@@ -352,8 +355,7 @@ void Identifier::bank_step(double yf, bool settled) {
   // c (y(t) - y(t-1)) + (c - 1) y_f(t-1) (the 0.02 Hz high-pass: 0.6 deg/s at 5 deg off the level).
   if (std::isfinite(rate_step_)) {
     const double c = c_hp_ > 0.0 ? c_hp_ : 1.0;
-    const Eigen::ArrayXd drift = (c - 1.0) * bx1_;
-    x = x.max(bx1_ + drift - c * rate_step_).min(bx1_ + drift + c * rate_step_);
+    x = x.max(bx1_ + (c - 1.0) * bx1_ - c * rate_step_).min(bx1_ + (c - 1.0) * bx1_ + c * rate_step_);
   }
   // What the reference lets the bank tell apart: the healthy model's output against the nearest fault
   // signature's, both driven by the same reference (noise-free). A slow swing of several degrees separates
@@ -376,7 +378,8 @@ void Identifier::bank_step(double yf, bool settled) {
     // Forgetting in information, not seconds: a slow-swing window carrying a fifth of information_ref forgets
     // a fifth as fast (bank_lambda's 2 s forgot the evidence for high air content as fast as it came).
     const double lambda = 1.0 - (1.0 - cfg_.bank_lambda) * info_weight_;
-    const Eigen::ArrayXd squared = (yf - x).square();
+    Eigen::ArrayXd& squared = bsquared_;
+    squared = (yf - x).square();
     // A memory stretched by a poor window keeps more evidence for the healthy actuator than turbulence's 2 s
     // would; a fault then has to undo it before its own evidence counts. Bounded while the window is poor.
     remember(bV_, bW_, squared, lambda, cfg_.evidence_max, info_weight_ < 1.0);
@@ -388,8 +391,8 @@ void Identifier::bank_step(double yf, bool settled) {
     }
     ++updates_;
   }
-  bx2_ = bx1_;
-  bx1_ = x;
+  bx2_.swap(bx1_);
+  bx1_.swap(bx_next_);
 }
 
 Theta Identifier::theta() const {

@@ -188,9 +188,10 @@ class Identifier {
   uint64_t updates_ = 0;
   // Bank: structure of arrays (vectorised over the models).
   Eigen::ArrayXd ba1_, ba2_, bb1_, bb2_, bx1_, bx2_, bV_;
-  double bW_ = 0.0;             // sum of the forgetting weights of bV_ (its sample count)
-  Eigen::ArrayXd bVi_;          // bV_ remembered in information always (information_evidence)
-  double bWi_ = 0.0;            // its weights' sum
+  Eigen::ArrayXd bx_next_, bsquared_;  // bank_step's work arrays, kept to allocate nothing per sample
+  double bW_ = 0.0;                    // sum of the forgetting weights of bV_ (its sample count)
+  Eigen::ArrayXd bVi_;                 // bV_ remembered in information always (information_evidence)
+  double bWi_ = 0.0;                   // its weights' sum
   double info_mean_ = 0.0;      // windowed mean square healthy-to-nearest-signature output difference (deg^2)
   bool info_excited_ = false;   // info_mean_ >= information_min (bank)
   double info_weight_ = 1.0;    // see information_weight()

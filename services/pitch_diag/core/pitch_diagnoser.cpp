@@ -258,7 +258,8 @@ void BladeDiagnoser::tick(double t, double dt, std::vector<FaultEvent>& events) 
     cls_.fits = false;
     return;
   }
-  const Classification point = classify(model.omega_n, model.zeta, cfg_->classifier);
+  classify(model.omega_n, model.zeta, cfg_->classifier, point_);
+  const Classification& point = point_;
   // The residuals remembered in information decide only a point no second path explains: pump wear and a
   // half-developed leak are named by how fast the point was reached, a pace tuned on the 2 s memory's
   // decisions (with them a leak ramped in over 30 s was named pump wear 19 s after its onset, judged suite

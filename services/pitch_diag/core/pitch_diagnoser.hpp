@@ -191,6 +191,7 @@ class BladeDiagnoser {
   Identifier id_;
   ContinuousModel model_;
   Classification cls_;
+  Classification point_;  // the last classification, kept for its storage (none allocated per decision)
   std::string candidate_ = "none";
   double pending_ = 0.0, candidate_since_ = 0.0, clear_pending_ = 0.0, candidate_alpha_ = 0.0;
   bool clear_refuted_ = false;  // clear_evidence reached within the current spell below alpha_clear

@@ -88,8 +88,13 @@ std::vector<Signature> table1_signatures() {
           {"high_air_content", 5.73, 0.45}};
 }
 
-Classification classify(double omega_n, double zeta, const ClassifierConfig& config) {
-  Classification out;
+void classify(double omega_n, double zeta, const ClassifierConfig& config, Classification& out) {
+  // Every field set again, the path vectors and class names in the storage they have (10 Hz per blade).
+  out.fault_class = "none";
+  out.alpha = out.raw_alpha = out.distance = out.excursion = out.alt_alpha = 0.0;
+  out.ambiguous = false;
+  out.alt_class.clear();
+  out.fits = true;
   const auto& sig = config.signatures;
   const std::size_t n_paths = sig.size() - 1;
   out.path_alpha.assign(n_paths, 0.0);
@@ -115,7 +120,7 @@ Classification classify(double omega_n, double zeta, const ClassifierConfig& con
       second = static_cast<int>(k);
     }
   }
-  if (best < 0) return out;
+  if (best < 0) return;
   out.alpha = out.path_alpha[best];
   out.raw_alpha = out.alpha;
   out.distance = out.path_distance[best];
@@ -123,7 +128,7 @@ Classification classify(double omega_n, double zeta, const ClassifierConfig& con
   if (out.alpha < config.alpha_detect) {
     out.alpha = 0.0;
     out.fault_class = "none";
-    return out;
+    return;
   }
   out.fault_class = sig[best + 1].name;
   // A second path through the same point explains it as well, however small its alpha (pump wear at alpha_pw
@@ -134,6 +139,11 @@ Classification classify(double omega_n, double zeta, const ClassifierConfig& con
     out.alt_class = sig[second + 1].name;
     out.alt_alpha = out.path_alpha[second];
   }
+}
+
+Classification classify(double omega_n, double zeta, const ClassifierConfig& config) {
+  Classification out;
+  classify(omega_n, zeta, config, out);
   return out;
 }
 

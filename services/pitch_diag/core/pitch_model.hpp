@@ -69,5 +69,7 @@ struct Classification {
 
 /// Least-squares projection of (omega_n, zeta) on each path (eqs 11-13 solved for alpha).
 Classification classify(double omega_n, double zeta, const ClassifierConfig& config);
+/// The same into `out`, reusing its storage: no allocation once it has held a classification.
+void classify(double omega_n, double zeta, const ClassifierConfig& config, Classification& out);
 
 }  // namespace windfdi::pitch_diag

@@ -8,6 +8,7 @@
 #include <random>
 #include <tuple>
 
+#include "allocation_counter.hpp"
 #include "ice_detector.hpp"
 #include "ice_service.hpp"
 #include "turbine_sim.hpp"
@@ -943,6 +944,30 @@ TEST(AeroPowerInput, AveragesTheAnemometerAroundEachSampleAndLosesNone) {
   // AND every sample leaves, in order, a quarter of a second late
   ASSERT_EQ(t_out.size(), 975u);
   for (std::size_t i = 0; i < t_out.size(); ++i) EXPECT_NEAR(t_out[i], static_cast<double>(i) * 0.01, 1e-9);
+}
+
+TEST(AeroPowerInput, ASampleAllocatesNothing) {
+  // GIVEN a 0.5 s window that is full
+  TurbineParams p;
+  AeroModel aero(p);
+  AeroPowerInput input(aero, 0.5, 0.01);
+  FrameSample s, out;
+  s.rotor_speed = 1.3;
+  s.pitch = {0.0, 0.0, 0.0};
+  bool gap = false;
+  double power = kNaN;
+  const auto push = [&](int k) {
+    s.t = k * 0.01;
+    s.wind_hub = 10.0 + (k % 2 ? 1.0 : -1.0);
+    input.push(s, false, out, gap, power);
+  };
+  for (int k = 0; k < 100; ++k) push(k);
+  // WHEN ten thousand samples more go through
+  const uint64_t before = windfdi::test::allocations();
+  for (int k = 100; k < 10100; ++k) push(k);
+  // THEN none allocated (its deque allocated a block every other sample; issue 21)
+  EXPECT_EQ(windfdi::test::allocations() - before, 0u);
+  EXPECT_TRUE(std::isfinite(power));
 }
 
 TEST(IceDetector, TheIceLevelsAreTheTurbinesOwnInertiaRise) {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "allocation_counter.hpp"
 #include "identifier.hpp"
 #include "pitch_diagnoser.hpp"
 #include "pitch_model.hpp"
@@ -30,6 +31,7 @@ struct Rig {
   PitchDiagnoser diag;
   std::vector<FaultEvent> events;  // all events so far
   PitchEstimate last;
+  uint64_t update_allocations = 0;  // heap allocations inside diag.update
   uint64_t seq = 0;
   double t = 0.0;
 
@@ -64,7 +66,9 @@ struct Rig {
       const FrameSample clean = s;
       if (edit) edit(s);
       ev.clear();
+      const uint64_t before = windfdi::test::allocations();
       diag.update(s, false, ev);
+      update_allocations += windfdi::test::allocations() - before;
       events.insert(events.end(), ev.begin(), ev.end());
       diag.estimate_due(last);
       for (int i = 0; i < 3; ++i) {
@@ -633,6 +637,17 @@ TEST(PitchDiagnoser, OnASlowSwingAHealthyHourRaisesNothing) {
   Rig rig(PitchDiagConfig{}, slow_swing(), 78);
   // THEN no event, and the estimates are healthy within 10 % (a slow swing carries less information)
   expect_a_quiet_healthy_hour(rig, 0.1);
+}
+
+TEST(PitchDiagnoser, ASampleAllocatesNothing) {
+  // GIVEN a diagnoser that has followed healthy actuators for a minute (its bank and windows in use)
+  Rig rig(PitchDiagConfig{}, 0.2, 79);
+  rig.run(60.0, healthy);
+  // WHEN it takes ten minutes more
+  rig.update_allocations = 0;
+  rig.run(660.0, healthy);
+  // THEN no sample allocated (the bank's arrays were three allocations per sample and blade; issue 21)
+  EXPECT_EQ(rig.update_allocations, 0u);
 }
 
 TEST(PitchDiagnoser, HealthyHourRaisesNothing) {
