@@ -1,11 +1,13 @@
 // Reliability: the farm store's disk fills up while faults keep coming; the farm monitor goes on, says so,
-// and stores every event once the disk takes writes again; on a read-only disk it does not start (a real
-// tmpfs; root).
+// and stores every event once the disk takes writes again; on a read-only disk (a real tmpfs; root) or a
+// damaged store it does not start.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <csignal>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -128,6 +130,45 @@ TEST_F(StoreFaults, AFullDiskLosesNoEventAndTheFarmGoesOnAReadOnlyOneAtStartIsRe
   EXPECT_NE(readonly.stderr_text().find(db), std::string::npos) << readonly.stderr_text();
   EXPECT_EQ(sh("mount -o remount,rw " + disk), 0);
   EXPECT_EQ(read_file(db), before);
+}
+
+TEST(CorruptStore, AStoreThatIsNoDatabaseOrIsDamagedIsRefusedAtStartAndLeftAsItWas) {
+  const int domain = private_domain(9);
+  const auto env = dds_env(domain);
+  const std::string dir = temp_dir("corrupt_store_" + std::to_string(domain));
+  // GIVEN a store the farm monitor made (its tables, closed cleanly), a copy of it with its second page
+  // garbled, header and all (the first table's root: an empty table's page garbled past its header is only
+  // free space, which no check can tell), and a file that is no database at all
+  const std::string good = dir + "/farm.sqlite", damaged = dir + "/damaged.sqlite",
+                    garbage = dir + "/garbage.sqlite";
+  {
+    ChildProcess farm({bin("windfdi-farm"), "--db", good, "--table-period", "0"}, env, "farm");
+    // (its tables are in the write-ahead log until it closes)
+    ASSERT_TRUE(wait_until([&] { return farm.stderr_text().find("database") != std::string::npos; },
+                           std::chrono::seconds(20)))
+        << farm.stderr_text();
+    ASSERT_EQ(farm.stop(SIGTERM), 0) << farm.stderr_text();
+  }
+  std::string bytes = read_file(good);
+  ASSERT_GE(bytes.size(), 8192u);
+  for (std::size_t i = 4096; i < 8192; ++i) bytes[i] = static_cast<char>(0x5a ^ (i & 0xff));
+  std::ofstream(damaged, std::ios::binary) << bytes;
+  std::ofstream(garbage, std::ios::binary) << std::string(3000, 'x');
+  for (const auto& db : {damaged, garbage}) {
+    const std::string before = read_file(db);
+    // WHEN the farm monitor starts on it
+    ChildProcess farm({bin("windfdi-farm"), "--db", db, "--table-period", "0"}, env, "farm_corrupt");
+    // THEN it refuses with exit 2, naming the file, and leaves it as it was
+    EXPECT_EQ(farm.wait(std::chrono::seconds(20)), 2) << db << ": " << farm.stderr_text();
+    EXPECT_NE(farm.stderr_text().find(db), std::string::npos) << farm.stderr_text();
+    EXPECT_EQ(read_file(db), before) << db;
+  }
+  // AND the intact store still opens
+  ChildProcess again({bin("windfdi-farm"), "--db", good, "--table-period", "0"}, env, "farm_again");
+  EXPECT_FALSE(wait_until([&] { return !again.running(); }, std::chrono::seconds(3))) << again.stderr_text();
+  EXPECT_EQ(again.stop(SIGTERM), 0) << again.stderr_text();
+  std::filesystem::remove_all(dir);
+  remove_stale_shm(domain);
 }
 
 }  // namespace

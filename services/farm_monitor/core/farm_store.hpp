@@ -79,6 +79,7 @@ class FarmStore {
 
  private:
   void exec(const char* sql);
+  void check_intact();  // throws ConfigError (exit 2) on a damaged store, leaving it as it is
   sqlite3* db_ = nullptr;
   std::string path_;
 };
