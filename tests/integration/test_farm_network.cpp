@@ -1,7 +1,8 @@
 // A farm over a network: hosts as network namespaces (a farm host and three others) joined by a bridge over
 // veth, UDP only, discovery through a Fast DDS discovery server on the farm host, which also runs the arbiter
-// and the farm monitor. Two layouts: a plant and its pitch_diag per turbine host; and one turbine host with
-// two service hosts sharing its turbines (--turbine ranges), one of which dies.
+// and the farm monitor. Two layouts: a plant and its pitch_diag per turbine host (also cut off by a
+// partition, and through a discovery server that is killed); and one turbine host with two service hosts
+// sharing its turbines (--turbine ranges), one of which dies.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -86,9 +87,12 @@ class FarmNetwork : public ::testing::Test {
   }
   /// The farm host's discovery server, farm monitor (store `db`) and arbiter.
   void start_farm_host(const std::string& db) {
-    start("f", {"fast-discovery-server", "-i", "0", "-l", net + ".1", "-p", "11811"}, "discovery");
+    discovery = &start_discovery_server();
     farm = &start("f", {bin("windfdi-farm"), "--db", db, "--table-period", "0"}, "farm");
     arbiter = &start("f", {bin("windfdi-arbiter")}, "arbiter");
+  }
+  ChildProcess& start_discovery_server() {
+    return start("f", {"fast-discovery-server", "-i", "0", "-l", net + ".1", "-p", "11811"}, "discovery");
   }
   ChildProcess& start(const std::string& host, std::vector<std::string> argv, const std::string& name) {
     argv.insert(argv.begin(), {kIp, "netns", "exec", prefix + host});
@@ -103,9 +107,20 @@ class FarmNetwork : public ::testing::Test {
   bool created = false;
   int domain = private_domain(9);
   std::vector<std::unique_ptr<ChildProcess>> processes;
+  ChildProcess* discovery = nullptr;
   ChildProcess* farm = nullptr;
   ChildProcess* arbiter = nullptr;
 };
+
+/// When the farm store first shows `service` of `turbine` lost (`lost`) or well after `after` (0: never).
+double health_event(const std::vector<json>& rows, const char* turbine, const std::string& service, bool lost,
+                    double after) {
+  for (const auto& r : rows)
+    if (r["kind"] == "health" && r["data"]["turbine_id"] == turbine && r["data"]["service"] == service &&
+        (r["data"]["event"] == "lost") == lost && r["received_at"].get<double>() > after)
+      return r["received_at"].get<double>();
+  return 0.0;
+}
 
 TEST_F(FarmNetwork, TwoTurbineHostsAndAFarmHostOverUdpWithADiscoveryServer) {
   const std::string dir = temp_dir("farm_network");
@@ -263,11 +278,7 @@ TEST_F(FarmNetwork, APartitionedTurbineHostIsShownLostNotFaultyAndEverythingArri
   const double plant_started = wall_time();
   const auto history = [&] { return farm_history(db, dds_env(domain)); };
   const auto health = [](const std::vector<json>& rows, const std::string& service, bool lost, double after) {
-    for (const auto& r : rows)
-      if (r["kind"] == "health" && r["data"]["turbine_id"] == "WT01" && r["data"]["service"] == service &&
-          (r["data"]["event"] == "lost") == lost && r["received_at"].get<double>() > after)
-        return r["received_at"].get<double>();
-    return 0.0;
+    return health_event(rows, "WT01", service, lost, after);
   };
   std::vector<json> rows;
   ASSERT_TRUE(wait_until(
@@ -347,6 +358,105 @@ TEST_F(FarmNetwork, APartitionedTurbineHostIsShownLostNotFaultyAndEverythingArri
       "derate after the healing: %s\n",
       partition_s, 4.0 * (cut_at - plant_started), 4.0 * (healed_at - plant_started), lost_at - cut_at,
       back_at > 0.0 ? back_at - healed_at : -1.0, raised_t, arrived ? "yes" : "no");
+}
+
+TEST_F(FarmNetwork, AKilledDiscoveryServerCutsNoStreamAndItsRestartServesARestartedService) {
+  const std::string dir = temp_dir("farm_discovery");
+  // GIVEN WT01 on host a at 4x real time with its pitch_diag beside it, pump wear on blade 1, the farm host's
+  // monitor and arbiter following it through the discovery server, which will be down for
+  // WINDFDI_DISCOVERY_DOWN_SECONDS (CI: 12; the campaign's run: 60, twice the 30 s participant lease). The
+  // pump wear starts at 120 s of sample time, later for a longer outage, so that it is raised in its last
+  // third: about 28 s of wall time after the kill at 120 s, and past the lease at 60 s.
+  const char* env_seconds = std::getenv("WINDFDI_DISCOVERY_DOWN_SECONDS");
+  const int down_s = env_seconds ? std::max(12, std::atoi(env_seconds)) : 12;
+  const int onset_s = std::max(120, 4 * (down_s - 10));
+  std::ofstream(dir + "/wt01.yaml")
+      << "duration: 1200\nseed: 7\nturbines:\n  - {id: WT01, wind: {mean: 17.0}}\n"
+         "faults:\n  - {turbine: WT01, target: pitch_actuator_1, type: pump_wear, start: "
+      << onset_s << "}\n";
+  const std::string db = dir + "/farm.sqlite";
+  start_farm_host(db);
+  auto* pitch = &start("a", {bin("windfdi-pitch-diag"), "--turbine", "WT01"}, "pitch_a");
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  auto& plant = start("a", {bin("windfdi-plant"), "--scenario", dir + "/wt01.yaml", "--rate", "4"}, "plant");
+  const auto history = [&] { return farm_history(db, dds_env(domain)); };
+  std::vector<json> rows;
+  ASSERT_TRUE(wait_until(
+      [&] {
+        rows = history();
+        return health_event(rows, "WT01", "plant", false, 0.0) > 0.0 &&
+               config_seen(rows, "WT01", [](const json&) { return true; });
+      },
+      std::chrono::seconds(30)))
+      << farm->stderr_text() << plant.stderr_text();
+  // (the plant met the farm host through the server, and pitch_diag beside it in the same round; a
+  // pitch_diag started with --turbine reports itself for WT01 before any plant is there)
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  ASSERT_FALSE(fault_raised(history(), "WT01", "pitch_actuator_1", "pump_wear")) << "raised too early";
+
+  // WHEN the discovery server is killed and stays down
+  const double killed_at = wall_time();
+  discovery->stop(SIGKILL);
+  // THEN the streams already matched go on without it: the pump wear raised on host a while it is down
+  // reaches the farm host, with the arbiter's derate, and no process is shown lost
+  const auto derating = [](const json& c) {
+    for (const auto& reason : c["reasons"])
+      if (reason.get<std::string>().find("pump_wear") != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_TRUE(wait_until(
+      [&] {
+        rows = history();
+        return fault_raised(rows, "WT01", "pitch_actuator_1", "pump_wear") &&
+               config_seen(rows, "WT01", derating);
+      },
+      std::chrono::seconds(std::max(40, down_s))))
+      << farm->stderr_text() << arbiter->stderr_text() << pitch->stderr_text();
+  std::this_thread::sleep_for(std::chrono::duration<double>(std::max(0.0, killed_at + down_s - wall_time())));
+  rows = history();
+  double raised_after = 0.0;
+  for (const auto& r : rows)
+    if (r["kind"] == "fault" && r["data"]["fault"] == "pump_wear")
+      raised_after = r["received_at"].get<double>() - killed_at;
+  for (const char* service : {"pitch_diag", "plant"})
+    EXPECT_EQ(health_event(rows, "WT01", service, true, killed_at), 0.0) << service << " shown lost";
+
+  // WHEN the server is back, and pitch_diag is killed and then restarted (a newcomer needs the server to
+  // meet anyone: it knows no other address)
+  discovery = &start_discovery_server();
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  const double killed_service_at = wall_time();
+  pitch->stop(SIGKILL);
+  // THEN the farm shows it lost, and back once the new one has met the others through the new server
+  double lost_at = 0.0, back_at = 0.0;
+  EXPECT_TRUE(wait_until(
+      [&] {
+        lost_at = health_event(history(), "WT01", "pitch_diag", true, killed_service_at);
+        return lost_at > 0.0;
+      },
+      std::chrono::seconds(15)))
+      << farm->stderr_text();
+  const double restarted_at = wall_time();
+  pitch = &start("a", {bin("windfdi-pitch-diag"), "--turbine", "WT01"}, "pitch_a2");
+  EXPECT_TRUE(wait_until(
+      [&] {
+        back_at = health_event(history(), "WT01", "pitch_diag", false, restarted_at);
+        return back_at > 0.0;
+      },
+      std::chrono::seconds(40)))
+      << farm->stderr_text() << pitch->stderr_text();
+  EXPECT_NE(pitch->stderr_text().find("diagnosing turbine WT01"), std::string::npos) << pitch->stderr_text();
+  int cleared = 0;
+  for (const auto& r : history())
+    if (r["kind"] == "fault" && r["data"]["component"] == "pitch_actuator_1" &&
+        r["data"]["state"] == "cleared")
+      ++cleared;
+  EXPECT_EQ(cleared, 0) << "the pump wear was cleared";
+  std::printf(
+      "[ measured ] discovery server down %d s: pump wear raised and stored %.1f s after the kill, nothing "
+      "shown lost; pitch_diag killed after its restart: shown lost after %.1f s, back %.1f s after its own "
+      "restart\n",
+      down_s, raised_after, lost_at - killed_service_at, back_at - restarted_at);
 }
 
 }  // namespace
