@@ -62,7 +62,9 @@ TEST_F(NetworkEmulation, AnOutageCarriesNothingAndALossyLinkStillCarriesTheStrea
   EXPECT_EQ(down.value("participants_discovered", -1), 0) << down.dump();
   // WHEN 20 % of every process's messages are lost (data, heartbeats, acknowledgements, discovery)
   set_network("loss 20");
-  const auto lossy = exchange("WT01,WT02,WT03", 100, 3, 1, "20");
+  // (200 blocks, 10 s: at 20 % loss the reader's side of discovery took up to 2.7 s to match the publisher's
+  // writer, which had matched the reader and started; a 5 s stream left too little after that)
+  const auto lossy = exchange("WT01,WT02,WT03", 200, 3, 1, "20");
   // THEN the reliable stream still arrives from the moment the reader's side matched (discovery messages are
   // lost too, and the volatile blocks sent before that are not the reader's): at least 90 % of every
   // turbine's samples from its first one received (a keep-last 8 history may be overwritten before a repair
@@ -74,10 +76,10 @@ TEST_F(NetworkEmulation, AnOutageCarriesNothingAndALossyLinkStillCarriesTheStrea
     const auto& first = lossy["first"];
     ASSERT_TRUE(first.contains(id)) << id << " " << lossy.dump();
     const int from = first[id].get<int>();
-    EXPECT_LT(from, 1000) << id << " " << lossy.dump();
-    EXPECT_GE(lossy["counts"].value(id, 0), (1000 - from) * 9 / 10) << id << " " << lossy.dump();
+    EXPECT_LT(from, 2000) << id << " " << lossy.dump();
+    EXPECT_GE(lossy["counts"].value(id, 0), (2000 - from) * 9 / 10) << id << " " << lossy.dump();
   }
-  std::cout << "[ measured ] at 20 % loss: " << lossy.value("total", 0) << " of 3000 samples, first "
+  std::cout << "[ measured ] at 20 % loss: " << lossy.value("total", 0) << " of 6000 samples, first "
             << lossy["first"].dump() << ", gaps " << lossy["gaps"].dump() << "\n";
 }
 
