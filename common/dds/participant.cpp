@@ -142,6 +142,7 @@ Participant::Participant(const ParticipantOptions& options) : domain_(options.do
   const std::string file = resolve_qos_file(options.qos_file);
   load_profiles_once(file);
   register_type_objects();
+  fastdds_thread_id();  // links the per-thread id that Fast DDS's assertions read into every DDS process
   auto* factory = DomainParticipantFactory::get_instance();
   DomainParticipantQos qos;
   if (factory->get_participant_qos_from_profile(options.profile, qos) != ReturnCode_t::RETCODE_OK)

@@ -33,6 +33,10 @@ struct ParticipantOptions {
 /// The QoS profile file actually used for `requested` (see ParticipantOptions::qos_file).
 std::string resolve_qos_file(const std::string& requested);
 
+/// The calling thread's kernel id, read once per thread; Fast DDS's lock assertions read it in its place
+/// (fastdds_thread_id.cpp).
+int fastdds_thread_id();
+
 /// A domain participant and everything it contains. Entities are created from named XML profiles and a
 /// failure throws; the destructor deletes every contained entity so a clean exit leaves no shared memory.
 class Participant {

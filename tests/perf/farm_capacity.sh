@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Farm capacity: the largest number of turbines at 100 Hz that all services keep up with
-# on this machine, with CPU per turbine. For each N: the plant in real time with the default --block 10
-# simulates N turbines (healthy, 8-19 m/s); the four diagnostic services run farm-wide (no --turbine
+# on this machine, with CPU per turbine. For each N: the plant in real time with --block 10 (FARM_BLOCK)
+# simulates N turbines (healthy, 8-19 m/s); the five diagnostic services run farm-wide (no --turbine
 # filter) with their deploy/config files, plus the arbiter; everything on a private loopback domain.
 # system_latency --mode health (tests/perf/system_latency.cpp) reads wt/health over the run and, over the
 # window after WARMUP s, decides "keeps up": every service sees all N turbines at >= 97 % of 100 Hz each,
@@ -10,6 +10,7 @@
 # CPU: utime+stime from /proc/PID/stat over the same window, per process, in % of one core (2 cores = 200 %).
 #
 # Usage: farm_capacity.sh [SECONDS=30] [N ...=5 10 20 40 80]   (stops at the first N that does not keep up)
+# FARM_BLOCK=B: the plant's samples per TurbineFrame (default 10, the plant's own default; 1..32).
 # Binaries: $WINDFDI_BIN (default build/bin); system_latency from $SYSTEM_LATENCY_BIN or $WINDFDI_BIN.
 set -euo pipefail
 . "$(dirname "$0")/dds_run.sh"
@@ -33,7 +34,7 @@ for n in "${list[@]}"; do
     > "$work/health.$n.out" 2>&1 &
   meter_pid=$!; pids+=($meter_pid)
   sleep 2
-  "$bin/windfdi-plant" --scenario "$work/farm$n.yaml" --rate realtime --progress 0 --log-level warn \
+  "$bin/windfdi-plant" --scenario "$work/farm$n.yaml" --rate realtime --block "${FARM_BLOCK:-10}" --progress 0 --log-level warn \
     > "$work/plant.$n.log" 2>&1 &
   pids+=($!); pid_of[plant]=$!
   sleep "$warm"
