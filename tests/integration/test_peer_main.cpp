@@ -80,6 +80,16 @@ struct DiscoveryCounter : eprosima::fastdds::dds::DomainParticipantListener {
   }
 };
 
+// Writers the reader has matched since it began (matched_writers is the count now: 0 once a publisher that
+// ended has left).
+int writers_ever_matched(bus::Reader<windfdi::TurbineFrame>& reader) {
+  eprosima::fastdds::dds::SubscriptionMatchedStatus status;
+  return reader.get()->get_subscription_matched_status(status) ==
+                 eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK
+             ? status.total_count
+             : -1;
+}
+
 int listen(const CommonOptions& common, uint64_t expect, double timeout) {
   DiscoveryCounter discovery;  // outlives the participant
   bus::Participant participant(participant_options(common, "windfdi-test-peer"));
@@ -119,7 +129,8 @@ int listen(const CommonOptions& common, uint64_t expect, double timeout) {
                      {"participants_discovered", discovery.participants.load()},
                      {"writers_discovered", discovery.writers.load()},
                      {"readers_discovered", discovery.readers.load()},
-                     {"matched_writers", reader.matched()}};
+                     {"matched_writers", reader.matched()},
+                     {"writers_ever_matched", writers_ever_matched(reader)}};
   if (!delays_ms.empty()) {
     std::sort(delays_ms.begin(), delays_ms.end());
     auto at = [&](double q) {

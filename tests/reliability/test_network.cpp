@@ -70,8 +70,10 @@ TEST_F(NetworkEmulation, AnOutageCarriesNothingAndALossyLinkStillCarriesTheStrea
   // turbine's samples from its first one received (a keep-last 8 history may be overwritten before a repair
   // on a slow machine; the readers see that as a sequence gap)
   // (the reader matched the publisher's writer, which needs its participant discovered: the listener's count
-  // of participant discoveries read 0 once in CI with the writer matched and all 3000 samples received)
-  EXPECT_GE(lossy.value("matched_writers", 0), 1) << lossy.dump();
+  // of participant discoveries read 0 once in CI with the writer matched and all 3000 samples received; and
+  // the count of writers matched now read 0 in stop 84's CI with 5610 samples received, the publisher gone
+  // by the listener's timeout, so the witness is the count of writers it ever matched)
+  EXPECT_GE(lossy.value("writers_ever_matched", 0), 1) << lossy.dump();
   for (const char* id : {"WT01", "WT02", "WT03"}) {
     const auto& first = lossy["first"];
     ASSERT_TRUE(first.contains(id)) << id << " " << lossy.dump();
