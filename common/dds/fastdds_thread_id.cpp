@@ -14,15 +14,11 @@
 
 namespace windfdi::bus {
 
-namespace {
-int calling_thread_id() {
+// Called by every Participant, which links this file into every DDS process.
+int fastdds_thread_id() {
   thread_local const int id = static_cast<int>(::syscall(SYS_gettid));
   return id;
 }
-}  // namespace
-
-// Called by every Participant, which links this file into every DDS process.
-int fastdds_thread_id() { return calling_thread_id(); }
 
 }  // namespace windfdi::bus
 
